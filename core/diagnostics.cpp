@@ -1,0 +1,48 @@
+#include "core/diagnostics.h"
+
+#include <sstream>
+
+namespace imm {
+
+const char* to_string(DefectKind kind) {
+  switch (kind) {
+    case DefectKind::Unreadable: return "unreadable";
+    case DefectKind::Empty: return "empty";
+    case DefectKind::NonFinite: return "non-finite";
+    case DefectKind::TooShort: return "too-short";
+    case DefectKind::NotClosed: return "not-closed";
+    case DefectKind::NonManifoldEdge: return "non-manifold-edge";
+    case DefectKind::NonManifoldVertex: return "non-manifold-vertex";
+    case DefectKind::InconsistentOrientation: return "inconsistent-orientation";
+    case DefectKind::DegenerateFacet: return "degenerate-facet";
+    case DefectKind::DuplicateVertex: return "duplicate-vertex";
+    case DefectKind::DuplicateFacet: return "duplicate-facet";
+    case DefectKind::CollinearOverlap: return "collinear-overlap";
+    case DefectKind::Touching: return "touching";
+    case DefectKind::TriplePoint: return "triple-point";
+  }
+  return "unknown";
+}
+
+std::string ValidationReport::summary(std::size_t max_lines) const {
+  std::ostringstream os;
+  std::size_t shown = 0;
+  for (const Defect& d : defects) {
+    if (shown == max_lines) {
+      os << "... and " << (defects.size() - shown) << " more\n";
+      break;
+    }
+    os << to_string(d.kind) << " (" << d.stage << "): " << d.message << '\n';
+    ++shown;
+  }
+  return os.str();
+}
+
+void fail_invariant(const char* cond, const std::string& msg, const char* file, int line) {
+  std::ostringstream os;
+  os << file << ':' << line << ": invariant violated: " << cond;
+  if (!msg.empty()) os << " -- " << msg;
+  throw InvariantError(os.str());
+}
+
+}  // namespace imm

@@ -1,0 +1,59 @@
+// The exact 2D cell complex (paper §4 with d = 2) and the geometry downstream steps need.
+// CGAL-free facade: the exact geometry sits behind `CutCurve` (dim2/cut_curve.h, CGAL inside).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/cell_complex.h"
+#include "dim2/curves.h"
+
+namespace imm::dim2 {
+
+struct CutCurve;  // exact cut geometry, dim2/cut_curve.h
+
+/// A closed polyline in doubles, for drawing only.
+using Loop = std::vector<Point>;
+
+/// The 2D cell complex with its geometry.
+struct Complex2 {
+  CellComplex<2> complex;
+  /// The input curves as the complex sees them: reversed when the input was clockwise.
+  CurveSet curves;
+  /// True when every winding number of the input was <= 0 and every curve was reversed
+  /// (the paper's figures draw curves clockwise).
+  bool reversed = false;
+
+  // ---- display geometry (doubles; never used for decisions) ----
+  IdMap<RegionId, std::vector<Loop>> region_boundary;  ///< outer loop first, then holes (empty for region 0)
+  IdMap<PatchId, std::vector<Point>> patch_polyline;   ///< in curve direction; closed loop if no arc
+  IdMap<ArcId, Point> arc_point;
+
+  /// Exact geometry (cut segments per patch, arc points, input points), for meshing.
+  std::shared_ptr<const CutCurve> exact;
+};
+
+/// A region with negative winding number: the input inverts space (paper §3, Fig. 8): exit 3.
+struct Inversion {
+  RegionId region;
+  int winding_number = 0;
+  Point sample;  ///< a point inside the region
+  std::string message;
+};
+
+struct BuildResult {
+  ValidationReport report;            ///< non-empty: invalid input (exit 2)
+  std::optional<Inversion> inversion; ///< set: valid input, not immersible (exit 3)
+  std::shared_ptr<Complex2> complex;  ///< set when the complex was built
+  double seconds = 0.0;
+};
+
+/// Builds the exact arrangement of all segments (CGAL Arrangement_2 over Epeck), validates
+/// genericity (no collinear overlaps, no touching without crossing, no triple points), and
+/// extracts regions, winding numbers, patches, arcs and the cyclic junction order at each arc.
+/// Paper: §4.1–4.3.
+BuildResult build_complex(const CurveSet& curves);
+
+}  // namespace imm::dim2

@@ -1,0 +1,77 @@
+// 2D meshing of an immersion (paper §7 with d = 2): a background triangulation, virtual
+// triangles for near self-intersections (§7.1), one copy of each cell's submesh per graph node,
+// copies fused across graph edges, vertices merged by union-find (Teran et al. 2005, §6).
+// CGAL-free facade; the exact work happens in dim2/*.cpp.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/immersion_graph.h"
+#include "dim2/complex2.h"
+
+namespace imm::dim2 {
+
+/// A plain triangle mesh in doubles (background input, or output).
+struct TriangleMesh {
+  std::vector<Point> vertices;
+  std::vector<std::array<int, 3>> triangles;  ///< counter-clockwise
+  std::vector<int> reference;                 ///< per triangle (output: the owning graph node)
+};
+
+struct MeshOptions {
+  /// Target number of background triangle edges across the bounding-box diagonal.
+  int resolution = 24;
+  /// Insert the cut curve as constraints (a conforming mesh: no triangle is cut by the input).
+  bool conforming = false;
+  /// Use this background mesh (Medit .mesh, Dimension 2) instead of generating one.
+  std::optional<std::string> background_path;
+  LogCallback progress;
+};
+
+/// Where an input vertex sits in the output: element (0-based, output order) and barycentric
+/// weights of the background triangle that reproduce its position. DESIGN §3 ".emb".
+struct EmbeddedVertex {
+  int element = -1;
+  std::array<double, 3> weights{};
+};
+
+struct MeshStats {
+  std::size_t background_triangles = 0;  ///< triangles of the background mesh
+  std::size_t cut_triangles = 0;         ///< background triangles crossed by the input
+  std::size_t output_triangles = 0;
+  std::size_t output_vertices = 0;
+  std::vector<std::size_t> copies_per_cell;  ///< output triangles per cell (by CellId)
+  double seconds_background = 0.0;
+  double seconds_virtual = 0.0;  ///< clipping + local regions
+  double seconds_assembly = 0.0; ///< copies, fusion, union-find
+};
+
+struct MeshResult {
+  ValidationReport report;  ///< e.g. a background mesh that does not cover the input (exit 2)
+  TriangleMesh mesh;
+  std::vector<EmbeddedVertex> embedding;  ///< per input vertex, original input order
+  MeshStats stats;
+};
+
+/// Meshes one immersion. @pre `immersion` satisfies Rules 1–7 for `complex.complex`.
+MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
+                          const MeshOptions& options);
+
+/// Reads a Medit .mesh with `Dimension 2`, `Vertices`, `Triangles` (reference numbers ignored).
+/// Defects (unreadable, wrong dimension, bad indices) go to `report`.
+TriangleMesh read_medit_2d(const std::string& path, ValidationReport& report);
+
+/// Medit .mesh text (Dimension 2; each triangle's reference = its graph node).
+std::string format_medit_2d(const TriangleMesh& mesh);
+/// .emb text: number of input vertices, then `element w0 w1 w2` per vertex (max_digits10).
+std::string format_embedding(const std::vector<EmbeddedVertex>& embedding);
+/// SVG of the output mesh pulled apart: the copies of each graph node offset so the ungluing
+/// is visible, coloured by node.
+std::string format_mesh_svg(const Complex2& complex, const Immersion& immersion,
+                            const MeshResult& result);
+
+}  // namespace imm::dim2
