@@ -1,0 +1,670 @@
+// Template definitions of find_immersions<D> and canonical_form<D>; included only by
+// core/instantiate.cpp. Paper: §6, Algorithm 1, §6.2.
+//
+// The search is a depth-first search over partial immersion graphs (immersion_rules.h):
+//  - groups: cells linked by a patch or by a common arc form independent subproblems
+//    (RuleContext::group_cells). Each group is searched on its own and the immersions are the
+//    Cartesian product of the groups' solutions. Without this, a refutation in one group would
+//    be re-derived under every choice made in another, and symmetric choices in k groups would
+//    multiply into 2^k duplicate leaves; it also lets SelfConnectingCell look only at the cells of
+//    the refuted group;
+//  - propagation: after every decision, the rule propagators run to a fixpoint over a worklist of
+//    the patches and arcs whose slots changed (one "state" in the statistics);
+//  - branching: the variables are owner(q) for every patch without an owner and partner(n, q) for
+//    every declined slot without an edge. The variable with the fewest options is decided next
+//    (ties: lowest patch id, owner before partners, lowest node). Alternatives are pushed on an
+//    explicit stack as copies of the state, so a state is copied only at a real branch point;
+//  - symmetry: two copies of a cell that own nothing, have no edge and have identical slots are
+//    interchangeable, so only the first of them is offered as an option (this replaces the
+//    paper's "pick any node a, make it own any B-patch p" seed and extends it to every component,
+//    §6.2: a new component is started by an owner(q) decision, never greedily). At a real branch
+//    point, options whose partial components have equal breadth-first codes are exchanged by an
+//    automorphism of the state and are also offered once;
+//  - acceptance: a state complete on its group is checked against every rule again
+//    (check_all_rules), then de-duplicated by its canonical form.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "core/graph_search.h"
+#include "core/immersion_graph.h"
+#include "core/immersion_rules.h"
+
+namespace imm {
+namespace detail {
+
+/// Runs every propagator until nothing changes. @return false on a conflict (kept in `ed`); the
+/// worklist is empty on return either way.
+inline bool propagate_to_fixpoint(StateEditor& ed, Worklist& worklist) {
+  while (true) {
+    if (worklist.has_patch()) {
+      const PatchId p = worklist.pop_patch();
+      if (!propagate_rule7(ed, p) || !propagate_rule2(ed, p)) {
+        worklist.clear();
+        return false;
+      }
+    } else if (worklist.has_arc()) {
+      const ArcId a = worklist.pop_arc();
+      if (!propagate_rule5(ed, a) || !propagate_rule4(ed, a) || !propagate_rule6(ed, a)) {
+        worklist.clear();
+        return false;
+      }
+    } else {
+      return true;
+    }
+  }
+}
+
+/// The complete graph of a state whose every slot is Owned or Connected.
+inline Immersion extract_immersion(const RuleContext& ctx, const SearchState& st) {
+  Immersion im;
+  im.layout = ctx.layout;
+  im.owner = st.owner;
+  for (std::size_t s = 0; s < ctx.slot_count(); ++s) {
+    const std::int32_t v = st.slot[s];
+    const NodeId n = ctx.slot_node[s];
+    const PatchId p = ctx.slot_patch[s];
+    if (v >= 0 && ctx.layout.cell(n) == ctx.inner[p]) im.edges.push_back({n, NodeId(v), p});
+  }
+  std::sort(im.edges.begin(), im.edges.end());
+  return im;
+}
+
+/// canonical_form over the flattened tables (see immersion_graph.h for the definition). With
+/// group >= 0 only the nodes of that group's cells are encoded.
+inline std::string canonical_form_impl(const RuleContext& ctx, const Immersion& im, int group = -1) {
+  constexpr std::int32_t kMissing = -4;
+  const std::size_t nodes = ctx.node_count();
+  std::vector<std::int32_t> table(ctx.slot_count(), kMissing);
+  for (PatchId p : ids<PatchId>(std::min(ctx.patch_count(), im.owner.size()))) {
+    const NodeId o = im.owner[p];
+    if (o.is_valid() && o.index() < nodes && ctx.layout.cell(o) == ctx.inner[p]) {
+      table[ctx.slot(o, p)] = kOwned;
+    }
+  }
+  const auto is_side = [&](NodeId n, PatchId p) {
+    if (!n.is_valid() || n.index() >= nodes || !p.is_valid() || p.index() >= ctx.patch_count()) {
+      return false;
+    }
+    const CellId c = ctx.layout.cell(n);
+    return c == ctx.inner[p] || c == ctx.outer[p];
+  };
+  for (const ImmersionEdge& e : im.edges) {
+    if (!is_side(e.inner, e.patch) || !is_side(e.outer, e.patch)) continue;
+    table[ctx.slot(e.inner, e.patch)] = e.outer.value();
+    table[ctx.slot(e.outer, e.patch)] = e.inner.value();
+  }
+  const auto slots_of = [&](NodeId n) {
+    const int begin = ctx.slot_base[n];
+    return std::pair{begin, begin + static_cast<int>(ctx.b_patches[ctx.layout.cell(n)].size())};
+  };
+
+  // Connected components over the edges.
+  std::vector<int> component(nodes, -1);
+  std::vector<std::vector<NodeId>> components;
+  for (NodeId start : ids<NodeId>(nodes)) {
+    if (component[start.index()] >= 0) continue;
+    if (group >= 0 && ctx.cell_group[ctx.layout.cell(start)] != group) continue;
+    const int id = static_cast<int>(components.size());
+    components.emplace_back();
+    std::vector<NodeId>& members = components.back();
+    component[start.index()] = id;
+    members.push_back(start);
+    for (std::size_t i = 0; i < members.size(); ++i) {
+      const auto [b, e] = slots_of(members[i]);
+      for (int s = b; s < e; ++s) {
+        if (table[s] >= 0 && component[table[s]] < 0) {
+          component[table[s]] = id;
+          members.push_back(NodeId(table[s]));
+        }
+      }
+    }
+  }
+
+  // Per component: the least breadth-first encoding over the copies of its smallest cell.
+  std::vector<std::int32_t> label(nodes, -1);
+  std::vector<std::string> forms;
+  std::vector<std::int32_t> code, best;
+  std::vector<NodeId> order;
+  for (const std::vector<NodeId>& members : components) {
+    CellId smallest = ctx.layout.cell(members.front());
+    for (NodeId n : members) smallest = std::min(smallest, ctx.layout.cell(n));
+    best.clear();
+    for (NodeId start : members) {
+      if (ctx.layout.cell(start) != smallest) continue;
+      code.clear();
+      order.assign(1, start);
+      label[start.index()] = 0;
+      for (std::size_t i = 0; i < order.size(); ++i) {
+        const NodeId u = order[i];
+        code.push_back(ctx.layout.cell(u).value());
+        const auto [b, e] = slots_of(u);
+        for (int s = b; s < e; ++s) {
+          const std::int32_t v = table[s];
+          if (v < 0) {
+            code.push_back(v == kOwned ? -1 : -2);
+            continue;
+          }
+          if (label[v] < 0) {
+            label[v] = static_cast<std::int32_t>(order.size());
+            order.push_back(NodeId(v));
+          }
+          code.push_back(label[v]);
+        }
+      }
+      for (NodeId n : order) label[n.index()] = -1;
+      if (best.empty() || code < best) best.swap(code);
+    }
+    // Decode the least code into text.
+    std::ostringstream os;
+    std::size_t i = 0;
+    int node_label = 0;
+    while (i < best.size()) {
+      const CellId c(best[i++]);
+      if (node_label++ > 0) os << ';';
+      os << 'c' << c.value() << '{';
+      const auto& patches = ctx.b_patches[c];
+      for (std::size_t k = 0; k < patches.size(); ++k, ++i) {
+        if (k > 0) os << ',';
+        os << patches[k].value() << ':';
+        if (best[i] == -1) {
+          os << "own";
+        } else if (best[i] == -2) {
+          os << "none";
+        } else {
+          os << best[i];
+        }
+      }
+      os << '}';
+    }
+    forms.push_back(os.str());
+  }
+  std::sort(forms.begin(), forms.end());
+  std::string out;
+  for (const std::string& f : forms) {
+    if (!out.empty()) out += " | ";
+    out += f;
+  }
+  return out;
+}
+
+/// One search variable and its options. Paper: §6 (Algorithm 1: "incomplete B-patches").
+struct Variable {
+  bool is_owner = true;  ///< owner(patch) when true, partner(node, patch) otherwise
+  PatchId patch;
+  NodeId node;                 ///< the declined node, for partner variables
+  std::vector<NodeId> options; ///< owners, or partners, to try in this order
+};
+
+struct Decision {
+  bool is_owner = true;
+  PatchId patch;
+  NodeId node;
+  NodeId option;
+};
+
+/// The solutions of one group: the values of its slots and the owners of its patches.
+struct GroupSolutions {
+  std::vector<int> slots;                        ///< the group's slots, in order
+  std::vector<std::vector<std::int32_t>> values; ///< per solution, one value per slot
+  std::vector<std::vector<NodeId>> owners;       ///< per solution, one owner per group patch
+  bool exhausted = false;                        ///< every solution of the group was enumerated
+  std::optional<Conflict> conflict;              ///< shallowest refutation, when none was found
+  int conflict_depth = 0;
+};
+
+/// Algorithm 1 as a depth-first search with an explicit stack. See the file comment.
+class ImmersionSearch {
+ public:
+  ImmersionSearch(const RuleContext& ctx, const SearchOptions& options)
+      : ctx_(ctx), options_(options), worklist_(ctx), representative_(ctx.node_count()) {}
+
+  SearchResult run() {
+    start_ = Clock::now();
+    last_progress_ = start_;
+    SearchResult result;
+
+    SearchState root = initial_state(ctx_);
+    {
+      ++stats_.states;
+      StateEditor ed(ctx_, root, worklist_);
+      worklist_.push_everything();
+      if (!propagate_to_fixpoint(ed, worklist_)) {
+        result.status = ImmersionStatus::NotImmersible;
+        result.conflict = *ed.take_conflict();
+        result.complete = true;
+        ++stats_.dead_ends;
+        failed_group_ = conflict_group(result.conflict);
+        return finish(std::move(result));
+      }
+    }
+
+    // Independent groups one by one; the immersions are the products of their solutions.
+    stats_.groups = ctx_.group_count();
+    std::vector<GroupSolutions> groups(ctx_.group_count());
+    bool all_exhausted = true;
+    for (std::size_t g = 0; g < ctx_.group_count(); ++g) {
+      group_index_ = g;
+      groups[g] = solve_group(static_cast<int>(g), root);
+      all_exhausted = all_exhausted && groups[g].exhausted;
+      if (groups[g].values.empty()) {
+        if (budget_hit_) break;
+        result.status = ImmersionStatus::NotImmersible;
+        result.complete = true;
+        failed_group_ = static_cast<int>(g);
+        const GroupSolutions& failed = groups[g];
+        if (failed.conflict) {
+          result.conflict = *failed.conflict;
+          std::ostringstream os;
+          os << "all " << failed_dead_ends_ << " search branches were refuted; shallowest conflict "
+             << "(after " << failed.conflict_depth << " branch decisions): " << result.conflict.message;
+          result.conflict.message = os.str();
+        } else {
+          result.conflict.message = "no immersion exists";
+        }
+        return finish(std::move(result));
+      }
+      if (budget_hit_) break;
+    }
+    if (budget_hit_) {
+      bool every_group_solved = true;
+      for (const GroupSolutions& g : groups) every_group_solved = every_group_solved && !g.values.empty();
+      if (!every_group_solved) {
+        result.status = ImmersionStatus::SearchBudgetExhausted;
+        std::ostringstream os;
+        os << "search budget exhausted after " << stats_.states << " states (" << budget_reason_
+           << ") before an immersion was found or refuted";
+        result.conflict.message = os.str();
+        result.complete = false;
+        return finish(std::move(result));
+      }
+    }
+
+    // Cartesian product, first solutions first.
+    std::vector<std::size_t> pick(groups.size(), 0);
+    bool product_done = false;
+    while (!product_done) {
+      if (options_.max_immersions != 0 && result.immersions.size() >= options_.max_immersions) break;
+      SearchState st = root;
+      for (std::size_t g = 0; g < groups.size(); ++g) {
+        const GroupSolutions& sol = groups[g];
+        for (std::size_t i = 0; i < sol.slots.size(); ++i) st.slot[sol.slots[i]] = sol.values[pick[g]][i];
+        const auto& patches = ctx_.group_patches[g];
+        for (std::size_t i = 0; i < patches.size(); ++i) st.owner[patches[i]] = sol.owners[pick[g]][i];
+      }
+      result.immersions.push_back(extract_immersion(ctx_, st));
+      std::size_t g = 0;
+      while (g < groups.size() && ++pick[g] == groups[g].values.size()) pick[g++] = 0;
+      product_done = g == groups.size();
+    }
+    result.status = ImmersionStatus::Immersible;
+    result.complete = all_exhausted && product_done;
+    return finish(std::move(result));
+  }
+
+  /// The group a conflict lies in (-1 if it names nothing).
+  [[nodiscard]] int conflict_group(const Conflict& c) const {
+    if (!c.patches.empty()) return ctx_.patch_group[c.patches.front()];
+    if (!c.cells.empty()) return ctx_.cell_group[c.cells.front()];
+    if (c.arc.is_valid()) return ctx_.arc_group[c.arc];
+    return -1;
+  }
+  /// The group whose refutation proved NotImmersible (-1 when not applicable).
+  [[nodiscard]] int failed_group() const { return failed_group_; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  enum class Outcome { Ok, Conflict, Budget };
+
+  /// Depth-first search of one group from the root fixpoint.
+  GroupSolutions solve_group(int group, const SearchState& root) {
+    GroupSolutions out;
+    for (CellId c : ctx_.group_cells[group]) {
+      for (int n = ctx_.first_node(c).value(); n < ctx_.node_end(c); ++n) {
+        const int b = ctx_.slot_base[NodeId(n)];
+        for (std::size_t i = 0; i < ctx_.b_patches[c].size(); ++i) out.slots.push_back(b + static_cast<int>(i));
+      }
+    }
+    group_forms_.clear();
+    failed_dead_ends_ = 0;
+
+    struct Frame {
+      SearchState state;
+      Decision decision;
+      int depth;
+    };
+    std::vector<Frame> stack;
+    SearchState current = root;
+    bool have_current = true;
+    int depth = 0;
+    Variable var;
+    while (true) {
+      if (!have_current) {
+        if (stack.empty()) {
+          out.exhausted = true;
+          break;
+        }
+        Frame frame = std::move(stack.back());
+        stack.pop_back();
+        current = std::move(frame.state);
+        depth = frame.depth;
+        const Outcome o = apply(current, frame.decision, depth, out);
+        if (o == Outcome::Budget) break;
+        have_current = o == Outcome::Ok;
+        continue;
+      }
+      if (!select_variable(current, group, var)) {
+        have_current = false;
+        if (accept(current, group, depth, out) && options_.max_immersions != 0 &&
+            out.values.size() >= options_.max_immersions) {
+          out.exhausted = stack.empty();
+          break;
+        }
+        continue;
+      }
+      if (var.options.empty()) {
+        ++stats_.dead_ends;
+        have_current = false;
+        continue;
+      }
+      if (var.options.size() > 1) {
+        ++stats_.branches;
+        ++depth;
+        for (std::size_t i = var.options.size() - 1; i >= 1; --i) {
+          stack.push_back(Frame{current, Decision{var.is_owner, var.patch, var.node, var.options[i]}, depth});
+        }
+      }
+      const Outcome o = apply(current, Decision{var.is_owner, var.patch, var.node, var.options[0]}, depth, out);
+      if (o == Outcome::Budget) break;
+      have_current = o == Outcome::Ok;
+    }
+    return out;
+  }
+
+  /// Applies one decision and propagates. Counts one state.
+  Outcome apply(SearchState& st, const Decision& d, int depth, GroupSolutions& out) {
+    if (options_.max_states != 0 && stats_.states >= options_.max_states) {
+      budget_hit_ = true;
+      budget_reason_ = "max_states = " + std::to_string(options_.max_states);
+      return Outcome::Budget;
+    }
+    const auto now = Clock::now();
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    if (options_.time_limit_seconds > 0 && elapsed >= options_.time_limit_seconds) {
+      budget_hit_ = true;
+      budget_reason_ = "time limit " + std::to_string(options_.time_limit_seconds) + " s";
+      return Outcome::Budget;
+    }
+    if (options_.progress && std::chrono::duration<double>(now - last_progress_).count() >= 0.25) {
+      last_progress_ = now;
+      std::ostringstream os;
+      os << "immersion search: group " << group_index_ + 1 << " of " << ctx_.group_count() << ", "
+         << stats_.states << " states, " << stats_.branches << " branches, " << stats_.dead_ends
+         << " dead ends";
+      options_.progress(os.str());
+    }
+    ++stats_.states;
+    StateEditor ed(ctx_, st, worklist_);
+    const Reason why{0, -1};
+    const bool ok = d.is_owner ? ed.own(d.option, d.patch, why) : ed.connect(d.node, d.option, d.patch, why);
+    if (ok && propagate_to_fixpoint(ed, worklist_)) return Outcome::Ok;
+    worklist_.clear();
+    record_dead_end(*ed.take_conflict(), depth, out);
+    return Outcome::Conflict;
+  }
+
+  void record_dead_end(Conflict c, int depth, GroupSolutions& out) {
+    ++stats_.dead_ends;
+    ++failed_dead_ends_;
+    if (!out.conflict || depth < out.conflict_depth) {
+      out.conflict = std::move(c);
+      out.conflict_depth = depth;
+    }
+  }
+
+  /// A state complete on the group: full rule check, canonical form, de-duplication.
+  /// @return true if it is a new solution.
+  bool accept(const SearchState& st, int group, int depth, GroupSolutions& out) {
+    if (std::optional<Conflict> c = check_all_rules(ctx_, st, group)) {
+      record_dead_end(std::move(*c), depth, out);
+      return false;
+    }
+    if (!group_forms_.insert(canonical_form_impl(ctx_, extract_immersion(ctx_, st), group)).second) {
+      ++stats_.duplicates;
+      return false;
+    }
+    std::vector<std::int32_t> values(out.slots.size());
+    for (std::size_t i = 0; i < out.slots.size(); ++i) values[i] = st.slot[out.slots[i]];
+    out.values.push_back(std::move(values));
+    std::vector<NodeId> owners;
+    for (PatchId p : ctx_.group_patches[group]) owners.push_back(st.owner[p]);
+    out.owners.push_back(std::move(owners));
+    return true;
+  }
+
+  [[nodiscard]] bool is_free(NodeId n, const SearchState& st) const {
+    const int b = ctx_.slot_base[n];
+    const int e = b + static_cast<int>(ctx_.b_patches[ctx_.layout.cell(n)].size());
+    for (int s = b; s < e; ++s) {
+      if (st.slot[s] == kOwned || st.slot[s] >= 0) return false;
+    }
+    return true;
+  }
+
+  /// representative_[n]: the first copy of n's cell interchangeable with n (n itself if none).
+  void compute_representatives(const SearchState& st, int group) {
+    for (CellId c : ctx_.group_cells[group]) {
+      const int first = ctx_.first_node(c).value(), end = ctx_.node_end(c);
+      const std::size_t width = ctx_.b_patches[c].size();
+      for (int n = first; n < end; ++n) {
+        representative_[n] = NodeId(n);
+        if (end - first < 2 || !is_free(NodeId(n), st)) continue;
+        const auto slots_n = st.slot.begin() + ctx_.slot_base[NodeId(n)];
+        for (int m = first; m < n; ++m) {
+          if (representative_[m] != NodeId(m) || !is_free(NodeId(m), st)) continue;
+          if (std::equal(slots_n, slots_n + width, st.slot.begin() + ctx_.slot_base[NodeId(m)])) {
+            representative_[n] = NodeId(m);
+            break;
+          }
+        }
+      }
+    }
+  }
+
+  /// The open variable of the group with the fewest options. @return false when the group is
+  /// complete.
+  bool select_variable(const SearchState& st, int group, Variable& best) {
+    compute_representatives(st, group);
+    std::size_t best_count = std::numeric_limits<std::size_t>::max();
+    const auto value = [&](NodeId n, PatchId p) { return st.slot[ctx_.slot(n, p)]; };
+    const auto owner_options = [&](PatchId p, std::vector<NodeId>* out) {
+      std::size_t count = 0;
+      const CellId c = ctx_.inner[p];
+      for (int n = ctx_.first_node(c).value(); n < ctx_.node_end(c); ++n) {
+        if (value(NodeId(n), p) == kUndecided && representative_[n] == NodeId(n)) {
+          ++count;
+          if (out) out->push_back(NodeId(n));
+        }
+      }
+      return count;
+    };
+    const auto partner_options = [&](PatchId p, CellId other, std::vector<NodeId>* out) {
+      std::size_t count = 0;
+      if (!other.is_valid()) return count;
+      for (int m = ctx_.first_node(other).value(); m < ctx_.node_end(other); ++m) {
+        const std::int32_t v = value(NodeId(m), p);
+        if ((v == kUndecided || v == kDeclined) && representative_[m] == NodeId(m)) {
+          ++count;
+          if (out) out->push_back(NodeId(m));
+        }
+      }
+      return count;
+    };
+    bool found = false;
+    Variable choice;
+    for (PatchId p : ctx_.group_patches[group]) {
+      if (!st.owner[p].is_valid()) {
+        const std::size_t count = owner_options(p, nullptr);
+        if (count < best_count) {
+          best_count = count;
+          choice = Variable{true, p, NodeId(), {}};
+          found = true;
+        }
+      }
+      for (CellId side : {ctx_.inner[p], ctx_.outer[p]}) {
+        if (best_count <= 1 || !side.is_valid()) break;
+        const CellId other = side == ctx_.inner[p] ? ctx_.outer[p] : ctx_.inner[p];
+        for (int n = ctx_.first_node(side).value(); n < ctx_.node_end(side) && best_count > 1; ++n) {
+          if (value(NodeId(n), p) != kDeclined) continue;
+          const std::size_t count = partner_options(p, other, nullptr);
+          if (count < best_count) {
+            best_count = count;
+            choice = Variable{false, p, NodeId(n), {}};
+            found = true;
+          }
+        }
+      }
+      if (best_count <= 1) break;
+    }
+    if (!found) return false;
+    best = std::move(choice);
+    best.options.clear();
+    if (best.is_owner) {
+      owner_options(best.patch, &best.options);
+    } else {
+      const CellId side = ctx_.layout.cell(best.node);
+      const CellId other = side == ctx_.inner[best.patch] ? ctx_.outer[best.patch] : ctx_.inner[best.patch];
+      partner_options(best.patch, other, &best.options);
+    }
+    if (best.options.size() > 1) drop_symmetric_options(st, best);
+    return true;
+  }
+
+  /// Breadth-first encoding of the partial component of `start` (edges = Connected slots): per
+  /// node its cell and its slot values, partners replaced by their BFS labels. Two nodes with
+  /// equal codes are exchanged by an automorphism of the state (the label-to-label map), which
+  /// swaps their components or maps one component onto itself. @return whether `watch` lies in
+  /// the component.
+  bool component_code(const SearchState& st, NodeId start, NodeId watch, std::vector<std::int32_t>& code) {
+    code.clear();
+    order_.assign(1, start);
+    label_[start.index()] = 0;
+    for (std::size_t i = 0; i < order_.size(); ++i) {
+      const NodeId u = order_[i];
+      code.push_back(ctx_.layout.cell(u).value());
+      const int b = ctx_.slot_base[u];
+      const int e = b + static_cast<int>(ctx_.b_patches[ctx_.layout.cell(u)].size());
+      for (int s = b; s < e; ++s) {
+        const std::int32_t v = st.slot[s];
+        if (v < 0) {
+          code.push_back(v);
+          continue;
+        }
+        if (label_[v] < 0) {
+          label_[v] = static_cast<std::int32_t>(order_.size());
+          order_.push_back(NodeId(v));
+        }
+        code.push_back(label_[v]);
+      }
+    }
+    const bool contains = watch.is_valid() && label_[watch.index()] >= 0;
+    for (NodeId n : order_) label_[n.index()] = -1;
+    return contains;
+  }
+
+  /// Keeps one option per class of options exchanged by an automorphism of the state (that also
+  /// fixes the declined node of a partner variable). Generalises the free-copy symmetry.
+  void drop_symmetric_options(const SearchState& st, Variable& var) {
+    const NodeId fixed = var.is_owner ? NodeId() : var.node;
+    kept_codes_.clear();
+    std::vector<NodeId> kept;
+    std::vector<std::int32_t> code;
+    for (NodeId u : var.options) {
+      const bool touches_fixed = component_code(st, u, fixed, code);
+      bool equivalent = false;
+      if (!touches_fixed) {
+        for (const auto& k : kept_codes_) {
+          if (k == code) {
+            equivalent = true;
+            break;
+          }
+        }
+      }
+      if (equivalent) continue;
+      kept.push_back(u);
+      if (!touches_fixed) kept_codes_.push_back(code);
+    }
+    var.options = std::move(kept);
+  }
+
+  SearchResult finish(SearchResult result) {
+    stats_.seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+    result.stats = stats_;
+    return result;
+  }
+
+  const RuleContext& ctx_;
+  const SearchOptions& options_;
+  Worklist worklist_;
+  std::vector<NodeId> representative_;
+  std::vector<std::int32_t> label_ = std::vector<std::int32_t>(ctx_.node_count(), -1);
+  std::vector<NodeId> order_;
+  std::vector<std::vector<std::int32_t>> kept_codes_;
+  SearchStats stats_;
+  std::unordered_set<std::string> group_forms_;
+  std::size_t group_index_ = 0;
+  std::size_t failed_dead_ends_ = 0;
+  int failed_group_ = -1;
+  bool budget_hit_ = false;
+  std::string budget_reason_;
+  Clock::time_point start_, last_progress_;
+};
+
+}  // namespace detail
+
+template <int D>
+std::string canonical_form(const CellComplex<D>& complex, const Immersion& immersion) {
+  const detail::RuleContext ctx(complex);
+  return detail::canonical_form_impl(ctx, immersion);
+}
+
+template <int D>
+SearchResult find_immersions(const CellComplex<D>& complex, const SearchOptions& options) {
+  for (RegionId r : ids<RegionId>(complex.region_count())) {
+    IMM_ASSERT(complex.winding_number(r) >= 0,
+               "find_immersions: negative winding number (the input inverts space; reject it first)");
+  }
+  const detail::RuleContext ctx(complex);
+  detail::ImmersionSearch search(ctx, options);
+  SearchResult result = search.run();
+  if (result.status == ImmersionStatus::NotImmersible) {
+    // Paper §5.1, Fig. 12 (bottom): without a simple immersion, a cell of winding number >= 2
+    // with a non-trivial fundamental group may be wrapped onto itself by a non-simple one. Only
+    // cells of the refuted group matter: other groups are independent of it.
+    const int group = search.failed_group();
+    for (CellId c : ids<CellId>(complex.cell_count())) {
+      if (group >= 0 && ctx.cell_group[c] != group) continue;
+      if (complex.winding_number(c) >= 2 && !complex.is_simply_connected(complex.region_of(c))) {
+        result.status = ImmersionStatus::SelfConnectingCell;
+        std::ostringstream os;
+        os << "no simple immersion exists, and cell " << c << " (winding number "
+           << complex.winding_number(c)
+           << ") is not simply connected: it may be self-connecting (paper §5.1, Fig. 12); cut it "
+              "and retry (paper §6.2). Search: "
+           << result.conflict.message;
+        result.conflict.message = os.str();
+        result.conflict.cells.insert(result.conflict.cells.begin(), c);
+        break;
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace imm
