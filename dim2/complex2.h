@@ -20,7 +20,10 @@ using Loop = std::vector<Point>;
 /// The 2D cell complex with its geometry.
 struct Complex2 {
   CellComplex<2> complex;
-  /// The input curves as the complex sees them: reversed when the input was clockwise.
+  /// The input curves as the complex sees them: reversed when the input was clockwise. A
+  /// reversed curve keeps its first vertex: original (v0, v1, ..., vn-1) becomes
+  /// (v0, vn-1, ..., v1). Ids in messages, CutCurve and vertex_patch always refer to the original
+  /// (file) order.
   CurveSet curves;
   /// True when every winding number of the input was <= 0 and every curve was reversed
   /// (the paper's figures draw curves clockwise).
@@ -28,8 +31,18 @@ struct Complex2 {
 
   // ---- display geometry (doubles; never used for decisions) ----
   IdMap<RegionId, std::vector<Loop>> region_boundary;  ///< outer loop first, then holes (empty for region 0)
-  IdMap<PatchId, std::vector<Point>> patch_polyline;   ///< in curve direction; closed loop if no arc
+  /// In curve direction, both ends included: from arc to arc, or for a patch without arc (a
+  /// curve without crossings) a closed loop whose first point is repeated at the end.
+  IdMap<PatchId, std::vector<Point>> patch_polyline;
   IdMap<ArcId, Point> arc_point;
+  /// A point strictly inside each region (computed exactly, then rounded): for labels and tests.
+  IdMap<RegionId, Point> region_sample;
+
+  /// Size of the exact arrangement (vertices = input vertices + arcs, edges = cut segments,
+  /// faces = regions), for reports and the Euler check V - E + F = 1 + #components.
+  std::size_t arrangement_vertices = 0;
+  std::size_t arrangement_edges = 0;
+  std::size_t arrangement_faces = 0;
 
   /// Exact geometry (cut segments per patch, arc points, input points), for meshing.
   std::shared_ptr<const CutCurve> exact;

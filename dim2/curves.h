@@ -52,6 +52,13 @@ ReadResult parse_curves_text(const std::string& text);
 /// Writes the text format, full double precision (round-trips exactly).
 std::string format_curves_text(const CurveSet& curves);
 
+/// Shortest decimal text that reads back as exactly `value` ("1", "0.1", "nan", "inf"); -0 is
+/// written "0".
+std::string format_number(double value);
+
+/// "(x, y)" with format_number, for messages.
+std::string format_point(const Point& p);
+
 /// The checks that need no arrangement: empty input, fewer than 3 vertices, non-finite
 /// coordinates, repeated consecutive vertices (zero-length segments), all-collinear curves.
 /// Every defect names curve, vertex indices and coordinates.

@@ -1,0 +1,621 @@
+// The exact 2D cell complex (paper §4 with d = 2): genericity defects, winding numbers, regions,
+// patches, arcs and the counter-clockwise junction order, checked against independent exact
+// brute-force facts (tests/support/random_curves.h) on known curves, >= 200 seeded random curves,
+// metamorphic transforms and the real curves of ../shared/data/real/2d.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <random>
+
+#include "dim2/complex2.h"
+#include "support/random_curves.h"
+
+namespace imm::dim2 {
+namespace {
+
+CurveSet make_set(std::initializer_list<std::vector<Point>> curves) {
+  CurveSet set;
+  for (const auto& c : curves) set.curves.push_back({c});
+  return set;
+}
+
+CurveSet single(Curve c) {
+  CurveSet set;
+  set.curves.push_back(std::move(c));
+  return set;
+}
+
+const Defect* find_kind(const ValidationReport& report, DefectKind kind) {
+  for (const Defect& d : report.defects) {
+    if (d.kind == kind) return &d;
+  }
+  return nullptr;
+}
+
+/// The counter-clockwise angle of a direction, for the geometric junction-order check only.
+double angle_of(const Point& from, const Point& to) { return std::atan2(to.y - from.y, to.x - from.x); }
+
+/// Every exact invariant of a built complex, against independent facts about the input.
+void check_complex(const CurveSet& curves, const Complex2& built, const test::CrossingFacts& facts) {
+  const CellComplex<2>& cx = built.complex;
+  const int sign = built.reversed ? -1 : 1;
+
+  // DESIGN §4 invariant 1: sum of w * area over regions == enclosed signed area, exactly.
+  Rational weighted = 0;
+  for (RegionId r : ids<RegionId>(cx.region_count())) weighted += cx.winding_number(r) * cx.measure(r);
+  EXPECT_EQ(weighted, sign * test::signed_area(curves));
+
+  ASSERT_GE(cx.region_count(), 2u);
+  EXPECT_EQ(cx.winding_number(kOutsideRegion), 0);
+  std::size_t nonzero = 0;
+  for (RegionId r : ids<RegionId>(cx.region_count())) {
+    EXPECT_GE(cx.winding_number(r), 0) << "region " << r;
+    if (r != kOutsideRegion) {
+      EXPECT_GT(cx.measure(r), 0) << "region " << r;
+    }
+    if (cx.winding_number(r) != 0) ++nonzero;
+    // The sample point lies in the region: its winding number, computed independently, matches.
+    const Point sample = built.region_sample[r];
+    ASSERT_FALSE(test::on_curves(curves, sample)) << "region " << r << " sample " << format_point(sample);
+    EXPECT_EQ(sign * test::winding_number(curves, sample), cx.winding_number(r))
+        << "region " << r << " sample " << format_point(sample);
+  }
+  EXPECT_EQ(cx.cell_count(), nonzero);
+
+  // Invariant 2: across every patch the winding number drops by one along the normal.
+  for (PatchId p : ids<PatchId>(cx.patch_count())) {
+    EXPECT_EQ(cx.winding_number(cx.sides(p).negative), cx.winding_number(cx.sides(p).positive) + 1);
+  }
+
+  // Arcs are the proper crossings (independent O(n^2) count); patches split curves at them.
+  EXPECT_EQ(cx.arc_count(), facts.proper_crossings);
+  std::size_t expected_patches = 0;
+  for (std::size_t k : facts.crossings_per_curve) expected_patches += k == 0 ? 1 : k;
+  EXPECT_EQ(cx.patch_count(), expected_patches);
+
+  // Euler: V - E + F = 1 + #components, with V and E known independently.
+  const std::size_t n = curves.vertex_count();
+  const std::size_t x = facts.proper_crossings;
+  EXPECT_EQ(built.arrangement_vertices, n + x);
+  EXPECT_EQ(built.arrangement_edges, n + 2 * x);
+  EXPECT_EQ(built.arrangement_faces, cx.region_count());
+  EXPECT_EQ(static_cast<long>(cx.region_count()),
+            1 + static_cast<long>(test::curve_components(curves, facts)) + static_cast<long>(x));
+  std::size_t cut_pieces = 0;
+  for (PatchId p : ids<PatchId>(cx.patch_count())) cut_pieces += built.patch_polyline[p].size() - 1;
+  EXPECT_EQ(cut_pieces, built.arrangement_edges);
+
+  // Every arc: four junctions whose cyclic order is counter-clockwise around the crossing point
+  // (measured on the display geometry) and whose wedges are the patch sides on the correct hand.
+  for (ArcId a : ids<ArcId>(cx.arc_count())) {
+    const ArcJunctions& j = cx.arc(a);
+    const Point at = built.arc_point[a];
+    struct End {
+      double angle;
+      PatchId patch;
+      bool outgoing;
+    };
+    std::vector<End> ends;
+    std::vector<PatchId> candidates(j.patch.begin(), j.patch.end());
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    for (PatchId p : candidates) {
+      const std::vector<Point>& line = built.patch_polyline[p];
+      ASSERT_GE(line.size(), 2u);
+      if (line.front() == at) ends.push_back({angle_of(at, line[1]), p, true});
+      if (line.back() == at) ends.push_back({angle_of(at, line[line.size() - 2]), p, false});
+    }
+    ASSERT_EQ(ends.size(), 4u) << "arc " << a;
+    std::sort(ends.begin(), ends.end(), [](const End& u, const End& v) { return u.angle < v.angle; });
+    bool matched = false;
+    for (int shift = 0; shift < 4 && !matched; ++shift) {
+      bool ok = true;
+      for (int k = 0; k < 4 && ok; ++k) {
+        const End& e = ends[(k + shift) % 4];
+        const PatchSides& s = cx.sides(e.patch);
+        const RegionId before = j.wedge[(k + 3) % 4];
+        const RegionId after = j.wedge[k];
+        ok = e.patch == j.patch[k] &&
+             // Junctions k and k+2 are one sheet passing through: one enters, one leaves.
+             e.outgoing != ends[(k + 2 + shift) % 4].outgoing &&
+             // Leaving the arc, the curve's left (negative side) is the counter-clockwise wedge.
+             (e.outgoing ? (after == s.negative && before == s.positive)
+                         : (after == s.positive && before == s.negative));
+      }
+      matched = ok;
+    }
+    EXPECT_TRUE(matched) << "arc " << a << " at " << format_point(at)
+                         << ": junctions are not in counter-clockwise order";
+  }
+
+  // Patch polylines run from arc to arc, or are closed loops.
+  for (PatchId p : ids<PatchId>(cx.patch_count())) {
+    const auto& line = built.patch_polyline[p];
+    if (cx.arcs_of(p).empty()) {
+      EXPECT_EQ(line.front(), line.back()) << "patch " << p;
+    }
+  }
+  ASSERT_NE(built.exact, nullptr);
+}
+
+struct Outcome {
+  enum Kind { Defective, Inverted, Built } kind;
+  BuildResult result;
+};
+
+/// Builds, checks the genericity verdict against the brute-force scan and, when built, every
+/// invariant. Inversions are checked through their sample point.
+Outcome build_and_check(const CurveSet& curves) {
+  const test::CrossingFacts facts = test::crossing_facts(curves);
+  BuildResult r = build_complex(curves);
+  EXPECT_EQ(r.report.ok(), facts.generic) << r.report.summary();
+  if (!r.report.ok()) return {Outcome::Defective, std::move(r)};
+  if (r.inversion) {
+    EXPECT_LT(r.inversion->winding_number, 0);
+    EXPECT_FALSE(test::on_curves(curves, r.inversion->sample));
+    EXPECT_EQ(test::winding_number(curves, r.inversion->sample), r.inversion->winding_number)
+        << r.inversion->message;
+    EXPECT_EQ(r.complex, nullptr);
+    return {Outcome::Inverted, std::move(r)};
+  }
+  EXPECT_NE(r.complex, nullptr);
+  if (r.complex) check_complex(curves, *r.complex, facts);
+  return {Outcome::Built, std::move(r)};
+}
+
+/// Counts that must survive rigid motions, re-indexing and re-ordering.
+struct Signature {
+  std::size_t cells = 0, patches = 0, arcs = 0;
+  bool reversed = false;
+  std::vector<std::pair<int, Rational>> regions;  // (winding, area), sorted, region 0 excluded
+  bool operator==(const Signature&) const = default;
+};
+
+Signature signature_of(const Complex2& c) {
+  Signature s;
+  s.cells = c.complex.cell_count();
+  s.patches = c.complex.patch_count();
+  s.arcs = c.complex.arc_count();
+  s.reversed = c.reversed;
+  for (RegionId r : ids<RegionId>(c.complex.region_count())) {
+    if (r != kOutsideRegion) s.regions.emplace_back(c.complex.winding_number(r), c.complex.measure(r));
+  }
+  std::sort(s.regions.begin(), s.regions.end());
+  return s;
+}
+
+std::ostream& operator<<(std::ostream& os, const Signature& s) {
+  os << "cells " << s.cells << " patches " << s.patches << " arcs " << s.arcs << " reversed " << s.reversed
+     << " regions";
+  for (const auto& [w, a] : s.regions) os << " (" << w << ", " << a << ")";
+  return os;
+}
+
+Curve square(double x0, double y0, double size) {
+  return {{{x0, y0}, {x0 + size, y0}, {x0 + size, y0 + size}, {x0, y0 + size}}};
+}
+
+Curve reversed_curve(Curve c) {
+  std::reverse(c.vertices.begin(), c.vertices.end());
+  return c;
+}
+
+/// r = 100 (1 + 2 cos t) sampled off the double point: an inner loop of winding number 2.
+Curve limacon() {
+  Curve c;
+  for (int k = 0; k < 24; ++k) {
+    const double t = 2.0 * M_PI * (k + 0.5) / 24.0;
+    const double r = 100.0 * (1.0 + 2.0 * std::cos(t));
+    c.vertices.push_back({std::round(r * std::cos(t)), std::round(r * std::sin(t))});
+  }
+  return c;
+}
+
+// ---- known complexes ---------------------------------------------------------------------
+
+TEST(Complex2Known, Square) {
+  const CurveSet set = single(square(0, 0, 10));
+  const Outcome o = build_and_check(set);
+  ASSERT_EQ(o.kind, Outcome::Built);
+  const Complex2& c = *o.result.complex;
+  EXPECT_FALSE(c.reversed);
+  EXPECT_EQ(c.complex.region_count(), 2u);
+  EXPECT_EQ(c.complex.cell_count(), 1u);
+  EXPECT_EQ(c.complex.patch_count(), 1u);
+  EXPECT_EQ(c.complex.arc_count(), 0u);
+  const RegionId inside = c.complex.region_of(CellId(0));
+  EXPECT_EQ(c.complex.winding_number(inside), 1);
+  EXPECT_EQ(c.complex.measure(inside), Rational(100));
+  EXPECT_TRUE(c.complex.is_simply_connected(inside));
+  // A counter-clockwise curve has its inside on the left = the patch's negative side.
+  EXPECT_EQ(c.complex.sides(PatchId(0)).negative, inside);
+  ASSERT_EQ(c.complex.b_patches(CellId(0)).size(), 1u);
+  EXPECT_TRUE(c.complex.b_patches(CellId(0))[0].agrees);
+  EXPECT_EQ(c.patch_polyline[PatchId(0)].size(), 5u);
+  ASSERT_EQ(c.region_boundary[inside].size(), 1u);
+  EXPECT_EQ(c.region_boundary[inside][0].size(), 4u);
+  EXPECT_GE(o.result.seconds, 0.0);
+}
+
+TEST(Complex2Known, ClockwiseSquareIsReversed) {
+  const CurveSet set = single(reversed_curve(square(0, 0, 10)));
+  const Outcome o = build_and_check(set);
+  ASSERT_EQ(o.kind, Outcome::Built);
+  const Complex2& c = *o.result.complex;
+  EXPECT_TRUE(c.reversed);
+  EXPECT_EQ(c.complex.cell_count(), 1u);
+  EXPECT_EQ(c.complex.winding_number(CellId(0)), 1);
+  EXPECT_EQ(c.complex.measure(c.complex.region_of(CellId(0))), Rational(100));
+  // The complex's curves are the reversed input, first vertex kept: counter-clockwise again.
+  EXPECT_EQ(c.curves.curves.at(0).vertices, (std::vector<Point>{{0, 10}, {0, 0}, {10, 0}, {10, 10}}));
+  EXPECT_EQ(test::signed_area(c.curves), Rational(100));
+  EXPECT_EQ(c.complex.sides(PatchId(0)).negative, c.complex.region_of(CellId(0)));
+}
+
+TEST(Complex2Known, FigureEightIsAnInversion) {
+  // Left lobe counter-clockwise (+1), right lobe clockwise (-1).
+  const CurveSet set = make_set({{{0, 0}, {10, 10}, {10, 0}, {0, 10}}});
+  const Outcome o = build_and_check(set);
+  ASSERT_EQ(o.kind, Outcome::Inverted);
+  const Inversion& inv = *o.result.inversion;
+  EXPECT_EQ(inv.winding_number, -1);
+  EXPECT_GT(inv.sample.x, 5.0);
+  EXPECT_NE(inv.message.find("region " + std::to_string(inv.region.value())), std::string::npos);
+  EXPECT_NE(inv.message.find("-1"), std::string::npos) << inv.message;
+  // Reversing the figure-eight swaps the lobes: still an inversion, now on the left.
+  const Outcome back = build_and_check(single(reversed_curve(set.curves[0])));
+  ASSERT_EQ(back.kind, Outcome::Inverted);
+  EXPECT_LT(back.result.inversion->sample.x, 5.0);
+}
+
+TEST(Complex2Known, LimaconInnerLoop) {
+  const CurveSet set = single(limacon());
+  const Outcome o = build_and_check(set);
+  ASSERT_EQ(o.kind, Outcome::Built);
+  const Complex2& c = *o.result.complex;
+  EXPECT_FALSE(c.reversed);
+  EXPECT_EQ(c.complex.cell_count(), 2u);
+  EXPECT_EQ(c.complex.patch_count(), 2u);
+  EXPECT_EQ(c.complex.arc_count(), 1u);
+  EXPECT_EQ(c.complex.max_winding_number(), 2);
+  std::vector<int> windings;
+  for (CellId cell : ids<CellId>(c.complex.cell_count())) windings.push_back(c.complex.winding_number(cell));
+  std::sort(windings.begin(), windings.end());
+  EXPECT_EQ(windings, (std::vector<int>{1, 2}));
+  // The winding-1 cell wraps around the inner loop and touches itself at the arc (paper §4.2.1):
+  // it occupies two opposite wedges.
+  for (CellId cell : ids<CellId>(c.complex.cell_count())) {
+    const bool outer = c.complex.winding_number(cell) == 1;
+    EXPECT_EQ(c.complex.self_touching_arcs(cell).size(), outer ? 1u : 0u);
+    EXPECT_TRUE(c.complex.is_simply_connected(c.complex.region_of(cell)));
+  }
+  // Around a crossing the windings are w, w+1, w+2, w+1: the two winding-1 wedges are opposite.
+  const ArcJunctions& j = c.complex.arc(ArcId(0));
+  const int k = j.wedge[0] == j.wedge[2] ? 0 : 1;
+  EXPECT_EQ(j.wedge[k], j.wedge[k + 2]);
+  EXPECT_EQ(c.complex.winding_number(j.wedge[k]), 1);
+  EXPECT_NE(j.wedge[k + 1], j.wedge[(k + 3) % 4]);
+  EXPECT_EQ(c.complex.geometric_neighbors().size(), 3u);  // two wedges of w=1, one of w=2
+}
+
+TEST(Complex2Known, NestedSquaresSameOrientation) {
+  const CurveSet set = make_set({square(0, 0, 10).vertices, square(3, 3, 4).vertices});
+  const Outcome o = build_and_check(set);
+  ASSERT_EQ(o.kind, Outcome::Built);
+  const Complex2& c = *o.result.complex;
+  EXPECT_EQ(c.complex.cell_count(), 2u);
+  EXPECT_EQ(c.complex.patch_count(), 2u);
+  EXPECT_EQ(c.complex.arc_count(), 0u);
+  for (CellId cell : ids<CellId>(c.complex.cell_count())) {
+    const RegionId r = c.complex.region_of(cell);
+    if (c.complex.winding_number(cell) == 1) {
+      EXPECT_EQ(c.complex.measure(r), Rational(84));
+      EXPECT_FALSE(c.complex.is_simply_connected(r));  // a ring
+      EXPECT_EQ(c.region_boundary[r].size(), 2u);
+    } else {
+      EXPECT_EQ(c.complex.winding_number(cell), 2);
+      EXPECT_EQ(c.complex.measure(r), Rational(16));
+      EXPECT_TRUE(c.complex.is_simply_connected(r));
+    }
+  }
+}
+
+TEST(Complex2Known, NestedSquaresOppositeOrientationMakeAHole) {
+  const CurveSet set = make_set({square(0, 0, 10).vertices, reversed_curve(square(3, 3, 4)).vertices});
+  const Outcome o = build_and_check(set);
+  ASSERT_EQ(o.kind, Outcome::Built);
+  EXPECT_EQ(o.result.complex->complex.cell_count(), 1u);
+  EXPECT_EQ(o.result.complex->complex.region_count(), 3u);  // outside, ring, hole (winding 0)
+}
+
+TEST(Complex2Known, TwoCrossingSquares) {
+  const CurveSet set = make_set({square(0, 0, 10).vertices, square(5, 5, 10).vertices});
+  const Outcome o = build_and_check(set);
+  ASSERT_EQ(o.kind, Outcome::Built);
+  const Complex2& c = *o.result.complex;
+  EXPECT_EQ(c.complex.arc_count(), 2u);
+  EXPECT_EQ(c.complex.patch_count(), 4u);
+  EXPECT_EQ(c.complex.cell_count(), 3u);
+  EXPECT_EQ(c.complex.max_winding_number(), 2);
+  EXPECT_EQ(c.arc_point[ArcId(0)].x + c.arc_point[ArcId(1)].x, 15.0);
+}
+
+TEST(Complex2Known, DisjointComponents) {
+  const CurveSet set = make_set({square(0, 0, 1).vertices, square(5, 0, 1).vertices, limacon().vertices});
+  const Outcome o = build_and_check(set);
+  ASSERT_EQ(o.kind, Outcome::Built);
+  EXPECT_EQ(o.result.complex->complex.cell_count(), 4u);
+}
+
+TEST(Complex2Known, CutCurveIsPresent) {
+  const Outcome o = build_and_check(single(limacon()));
+  ASSERT_EQ(o.kind, Outcome::Built);
+  EXPECT_NE(o.result.complex->exact, nullptr);
+}
+
+// ---- genericity defects (exit 2) --------------------------------------------------------
+
+TEST(Complex2Defects, CollinearOverlap) {
+  // Segment 4 of the triangle runs along segment 0 of the square.
+  const CurveSet set = make_set({square(0, 0, 10).vertices, {{2, 0}, {8, 0}, {5, -5}}});
+  const BuildResult r = build_complex(set);
+  const Defect* d = find_kind(r.report, DefectKind::CollinearOverlap);
+  ASSERT_NE(d, nullptr) << r.report.summary();
+  EXPECT_EQ(d->message, "curves 0 and 1: segments 0 and 4 overlap collinearly from (2, 0) to (8, 0)");
+  EXPECT_EQ(d->facets, (std::vector<long>{0, 4}));
+  EXPECT_FALSE(test::crossing_facts(set).generic);
+}
+
+TEST(Complex2Defects, SelfOverlapWithinOneCurve) {
+  // The curve folds back over its own segment 0 (segment 3 runs back along it).
+  const CurveSet set = make_set({{{0, 0}, {10, 0}, {10, 5}, {6, 0}, {2, 0}, {2, -5}}});
+  const BuildResult r = build_complex(set);
+  const Defect* d = find_kind(r.report, DefectKind::CollinearOverlap);
+  ASSERT_NE(d, nullptr) << r.report.summary();
+  EXPECT_EQ(d->message, "curve 0: segments 0 and 3 overlap collinearly from (2, 0) to (6, 0)");
+}
+
+TEST(Complex2Defects, VertexOnAnotherSegmentIsTouching) {
+  const CurveSet set = make_set({square(0, 0, 10).vertices, {{5, 0}, {7, -5}, {3, -5}}});
+  const BuildResult r = build_complex(set);
+  ASSERT_EQ(r.report.defects.size(), 1u) << r.report.summary();
+  const Defect& d = r.report.defects[0];
+  EXPECT_EQ(d.kind, DefectKind::Touching);
+  EXPECT_EQ(d.message, "curves 0 and 1: vertex 4 at (5, 0) lies on segment 0 (touching; crossings must be interior to two segments)");
+  EXPECT_EQ(d.vertices, (std::vector<long>{4}));
+  EXPECT_EQ(r.complex, nullptr);
+}
+
+TEST(Complex2Defects, CoincidentVerticesAreTouching) {
+  // A bow tie whose two lobes meet at a shared vertex (2 and 5) instead of crossing.
+  const CurveSet set = make_set({{{0, 0}, {4, 0}, {5, 5}, {10, 10}, {10, 6}, {5, 5}, {0, 4}}});
+  const BuildResult r = build_complex(set);
+  ASSERT_EQ(r.report.defects.size(), 1u) << r.report.summary();
+  EXPECT_EQ(r.report.defects[0].kind, DefectKind::Touching);
+  EXPECT_EQ(r.report.defects[0].message, "curve 0: vertices 2 and 5 coincide at (5, 5) (the curve touches itself there)");
+}
+
+TEST(Complex2Defects, ThreeSegmentsThroughOnePoint) {
+  const CurveSet set = make_set({{{-10, -1}, {10, 1}, {10, 5}}, {{-1, -10}, {1, 10}, {-5, 10}},
+                                 {{-10, 10}, {10, -10}, {10, -15}}});
+  const BuildResult r = build_complex(set);
+  const Defect* d = find_kind(r.report, DefectKind::TriplePoint);
+  ASSERT_NE(d, nullptr) << r.report.summary();
+  EXPECT_EQ(d->message, "curves 0, 1 and 2: segments 0, 3 and 6 all pass through (0, 0) (3 sheets meet at one point)");
+  EXPECT_EQ(d->facets, (std::vector<long>{0, 3, 6}));
+  EXPECT_FALSE(test::crossing_facts(set).generic);
+}
+
+TEST(Complex2Defects, EveryDefectIsReported) {
+  // Two triangles hanging from the square at vertices on its bottom and top sides.
+  const CurveSet set = make_set({square(0, 0, 10).vertices, {{5, 0}, {7, -5}, {3, -5}}, {{5, 10}, {3, 15}, {7, 15}}});
+  const BuildResult r = build_complex(set);
+  ASSERT_EQ(r.report.defects.size(), 2u) << r.report.summary();
+  const std::string all = r.report.summary();
+  EXPECT_NE(all.find("vertex 4 at (5, 0) lies on segment 0"), std::string::npos) << all;
+  EXPECT_NE(all.find("vertex 7 at (5, 10) lies on segment 2"), std::string::npos) << all;
+}
+
+TEST(Complex2Defects, ValidationRunsFirst) {
+  const BuildResult r = build_complex(make_set({{{0, 0}, {1, 0}, {1, 0}, {0, 1}}}));
+  ASSERT_FALSE(r.report.ok());
+  EXPECT_EQ(r.report.defects[0].kind, DefectKind::DuplicateVertex);
+  EXPECT_FALSE(build_complex(CurveSet{}).report.ok());
+}
+
+// ---- seeded random curves: invariants and genericity against brute force --------------------
+
+TEST(Complex2Random, InvariantsOnSeededCurves) {
+  std::size_t built = 0, inverted = 0, defective = 0, with_arcs = 0;
+  for (std::uint64_t seed = 0; seed < 240; ++seed) {
+    SCOPED_TRACE(testing::Message() << "seed=" << seed);
+    const std::size_t vertices = 6 + seed % 29;
+    const int turns = 1 + static_cast<int>(seed % 3);
+    const double backtrack = (seed / 3) % 3 == 0 ? 0.0 : 0.4 * static_cast<double>((seed / 3) % 3);
+    const CurveSet set = single(test::random_star_curve(seed, vertices, 150, backtrack, turns));
+    const Outcome o = build_and_check(set);
+    if (o.kind == Outcome::Built) {
+      ++built;
+      if (o.result.complex->complex.arc_count() > 0) ++with_arcs;
+    }
+    inverted += o.kind == Outcome::Inverted;
+    defective += o.kind == Outcome::Defective;
+    if (HasFatalFailure()) return;
+  }
+  std::cout << "[ random ] star curves: " << built << " built (" << with_arcs << " with arcs), " << inverted
+            << " inversions, " << defective << " non-generic (skipped)\n";
+  EXPECT_GE(built, 150u);
+  EXPECT_GE(with_arcs, 100u);
+}
+
+TEST(Complex2Random, UniformRandomPolygons) {
+  // Mostly inversions and, on a coarse grid, many degeneracies: both verdicts are checked.
+  std::size_t built = 0, inverted = 0, defective = 0;
+  for (std::uint64_t seed = 0; seed < 150; ++seed) {
+    SCOPED_TRACE(testing::Message() << "seed=" << seed);
+    const CurveSet set = single(test::random_polygon(seed, 4 + seed % 9, seed % 2 == 0 ? 12 : 1000));
+    const Outcome o = build_and_check(set);
+    built += o.kind == Outcome::Built;
+    inverted += o.kind == Outcome::Inverted;
+    defective += o.kind == Outcome::Defective;
+    if (HasFatalFailure()) return;
+  }
+  std::cout << "[ random ] uniform polygons: " << built << " built, " << inverted << " inversions, " << defective
+            << " non-generic\n";
+  EXPECT_GT(built, 10u);
+  EXPECT_GT(inverted, 10u);
+  EXPECT_GT(defective, 10u);
+}
+
+TEST(Complex2Random, MultiComponentSets) {
+  std::size_t built = 0, defective = 0, inverted = 0;
+  for (std::uint64_t seed = 0; seed < 80; ++seed) {
+    SCOPED_TRACE(testing::Message() << "seed=" << seed);
+    std::mt19937_64 rng(seed);
+    CurveSet set;
+    const std::size_t count = 2 + seed % 3;
+    for (std::size_t k = 0; k < count; ++k) {
+      Curve c = test::random_star_curve(seed * 7 + k, 5 + (seed + k) % 12, 60, 0.0, 1 + static_cast<int>(k % 2));
+      const double dx = static_cast<double>(static_cast<int>(rng() % 161) - 80);
+      const double dy = static_cast<double>(static_cast<int>(rng() % 161) - 80);
+      for (Point& p : c.vertices) p = {p.x + dx, p.y + dy};
+      set.curves.push_back(std::move(c));
+    }
+    const Outcome o = build_and_check(set);
+    built += o.kind == Outcome::Built;
+    inverted += o.kind == Outcome::Inverted;
+    defective += o.kind == Outcome::Defective;
+    if (HasFatalFailure()) return;
+  }
+  std::cout << "[ random ] multi-component sets: " << built << " built, " << inverted << " inversions, "
+            << defective << " non-generic (skipped)\n";
+  EXPECT_GE(built, 60u);
+}
+
+// ---- metamorphic: rigid motions, re-indexing and re-ordering keep every count ---------------
+
+CurveSet transformed(const CurveSet& set, auto&& f) {
+  CurveSet out = set;
+  for (Curve& c : out.curves) {
+    for (Point& p : c.vertices) p = f(p);
+  }
+  return out;
+}
+
+TEST(Complex2Metamorphic, MotionsShiftsAndShuffles) {
+  std::size_t compared = 0;
+  for (std::uint64_t seed = 0; seed < 40; ++seed) {
+    SCOPED_TRACE(testing::Message() << "seed=" << seed);
+    CurveSet set;
+    set.curves.push_back(test::random_star_curve(seed, 8 + seed % 15, 60, 0.0, 1 + static_cast<int>(seed % 3), /*step=*/5));
+    set.curves.push_back(test::random_star_curve(seed + 1000, 6 + seed % 7, 40, 0.0, 1, /*step=*/5));
+    for (Point& p : set.curves[1].vertices) p = {p.x + 100, p.y - 35};
+    const BuildResult base = build_complex(set);
+    if (!base.report.ok() || base.inversion) continue;
+    ++compared;
+    const Signature expected = signature_of(*base.complex);
+
+    auto expect_same = [&](const CurveSet& other, const char* what, bool flips_orientation = false) {
+      const Outcome o = build_and_check(other);
+      ASSERT_EQ(o.kind, Outcome::Built) << what;
+      Signature got = signature_of(*o.result.complex);
+      if (flips_orientation) got.reversed = !got.reversed;
+      EXPECT_EQ(got, expected) << what;
+    };
+    expect_same(transformed(set, [](Point p) { return Point{p.x + 17, p.y - 1234}; }), "translation");
+    // The exact rotation by atan(4/3): (3x - 4y, 4x + 3y) / 5, integral on multiples of 5.
+    expect_same(transformed(set, [](Point p) { return Point{(3 * p.x - 4 * p.y) / 5, (4 * p.x + 3 * p.y) / 5}; }),
+                "3-4-5 rotation");
+    CurveSet shifted = set;
+    for (Curve& c : shifted.curves) {
+      std::rotate(c.vertices.begin(), c.vertices.begin() + static_cast<long>(seed % c.vertices.size()),
+                  c.vertices.end());
+    }
+    expect_same(shifted, "start vertex shifted");
+    CurveSet swapped = set;
+    std::swap(swapped.curves[0], swapped.curves[1]);
+    expect_same(swapped, "curve order swapped");
+    CurveSet opposite = set;
+    for (Curve& c : opposite.curves) c = reversed_curve(c);
+    expect_same(opposite, "every curve reversed", /*flips_orientation=*/true);
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_GE(compared, 30u);
+}
+
+// ---- real curves (../shared/data/real/2d, SOURCES.md 2D table) --------------------------------
+
+struct RealCase {
+  const char* file;
+  enum { Build, Invert, Touch } verdict;
+  bool reversed;
+  int max_winding;
+  std::size_t crossings;
+};
+
+TEST(Complex2Real, SourcesTable) {
+  const std::filesystem::path dir = std::filesystem::path(IMM_SHARED_DATA_DIR) / "2d";
+  if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " is absent";
+  const RealCase cases[] = {
+      {"skimage_sopoly_cw_no_overlap.txt", RealCase::Build, false, 1, 0},
+      {"skimage_sopoly_ccw_no_overlap.txt", RealCase::Build, true, 1, 0},
+      {"skimage_sopoly_cw_self_inter.txt", RealCase::Invert, false, 0, 4},
+      {"skimage_sopoly_ccw_self_inter.txt", RealCase::Invert, false, 0, 4},
+      {"skimage_sopoly_cw_overlap.txt", RealCase::Touch, false, 0, 2},
+      {"skimage_sopoly_ccw_overlap.txt", RealCase::Touch, false, 0, 2},
+      {"skimage_example_poly.txt", RealCase::Build, false, 2, 8},
+      {"jax_test_1.txt", RealCase::Build, true, 3, 6},
+      {"jax_test_2.txt", RealCase::Build, true, 2, 4},
+      {"jax_test_4.txt", RealCase::Build, true, 2, 5},
+      {"jax_test_5.txt", RealCase::Build, true, 4, 10},
+      {"jax_test_6.txt", RealCase::Invert, false, 0, 1},
+  };
+  for (const RealCase& rc : cases) {
+    SCOPED_TRACE(rc.file);
+    const ReadResult read = read_curves((dir / rc.file).string());
+    ASSERT_TRUE(read.report.ok()) << read.report.summary();
+    const test::CrossingFacts facts = test::crossing_facts(read.curves);
+    EXPECT_EQ(facts.proper_crossings, rc.crossings);
+    const Outcome o = build_and_check(read.curves);
+    switch (rc.verdict) {
+      case RealCase::Build: {
+        ASSERT_EQ(o.kind, Outcome::Built) << o.result.report.summary();
+        const Complex2& c = *o.result.complex;
+        EXPECT_EQ(c.reversed, rc.reversed);
+        EXPECT_EQ(c.complex.max_winding_number(), rc.max_winding);
+        // SOURCES.md lists every winding number from 0 to the maximum as occurring.
+        std::vector<bool> seen(static_cast<std::size_t>(rc.max_winding) + 1, false);
+        for (RegionId r : ids<RegionId>(c.complex.region_count())) seen[c.complex.winding_number(r)] = true;
+        EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](bool b) { return b; }));
+        break;
+      }
+      case RealCase::Invert:
+        ASSERT_EQ(o.kind, Outcome::Inverted);
+        EXPECT_EQ(o.result.inversion->winding_number, -1);
+        break;
+      case RealCase::Touch: {
+        ASSERT_EQ(o.kind, Outcome::Defective);
+        ASSERT_EQ(o.result.report.defects.size(), 1u) << o.result.report.summary();
+        const Defect& d = o.result.report.defects[0];
+        EXPECT_EQ(d.kind, DefectKind::Touching);
+        EXPECT_NE(d.message.find("(381, 269)"), std::string::npos) << d.message;
+        // The repeated vertex (381, 269): indices 3 and 26 in cw order, 6 and 29 reversed.
+        const std::vector<long> expected = std::string(rc.file).find("_cw_") != std::string::npos
+                                               ? std::vector<long>{3, 26}
+                                               : std::vector<long>{6, 29};
+        EXPECT_EQ(d.vertices, expected);
+        EXPECT_NE(d.message.find("vertices " + std::to_string(expected[0]) + " and " + std::to_string(expected[1])),
+                  std::string::npos)
+            << d.message;
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace imm::dim2
