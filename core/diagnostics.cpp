@@ -20,6 +20,7 @@ const char* to_string(DefectKind kind) {
     case DefectKind::CollinearOverlap: return "collinear-overlap";
     case DefectKind::Touching: return "touching";
     case DefectKind::TriplePoint: return "triple-point";
+    case DefectKind::NotCovered: return "not-covered";
   }
   return "unknown";
 }

@@ -28,6 +28,7 @@ enum class DefectKind {
   CollinearOverlap,       ///< two segments (2D) or triangles (3D) overlap along a positive measure
   Touching,               ///< the input touches itself without crossing (vertex on a facet, ...)
   TriplePoint,            ///< three or more sheets through one point (2D) / non-generic (3D)
+  NotCovered,             ///< a background mesh that does not cover the input (meshing)
 };
 
 /// A short, stable name for a kind ("collinear-overlap", ...), used in messages and JSON.

@@ -29,6 +29,8 @@ struct MeshOptions {
   bool conforming = false;
   /// Use this background mesh (Medit .mesh, Dimension 2) instead of generating one.
   std::optional<std::string> background_path;
+  /// Fill MeshResult::contents (what every output triangle holds; for tests and diagnostics).
+  bool record_contents = false;
   LogCallback progress;
 };
 
@@ -41,7 +43,7 @@ struct EmbeddedVertex {
 
 struct MeshStats {
   std::size_t background_triangles = 0;  ///< triangles of the background mesh
-  std::size_t cut_triangles = 0;         ///< background triangles crossed by the input
+  std::size_t cut_triangles = 0;         ///< background triangles split by the input (2+ local regions)
   std::size_t output_triangles = 0;
   std::size_t output_vertices = 0;
   std::vector<std::size_t> copies_per_cell;  ///< output triangles per cell (by CellId)
@@ -50,14 +52,42 @@ struct MeshStats {
   double seconds_assembly = 0.0; ///< copies, fusion, union-find
 };
 
+/// What one output triangle (an element copy) holds. A copy is a union of "atoms": local regions
+/// of its background triangle (the pieces of the triangle minus the input, each inside one region)
+/// as seen by one graph node; atoms of several nodes share a copy when they are glued through
+/// immersion-graph edges across a patch piece inside the triangle (paper §7).
+struct CopyContent {
+  struct Atom {
+    NodeId node;
+    RegionId region;        ///< the region the local region lies in (a cell of `node`)
+    int local_region = 0;   ///< index of the local region within its background triangle
+  };
+  std::vector<Atom> atoms;
+  /// Input segments (global ids, input order) with a piece in this triangle that this copy
+  /// embeds as boundary: the copy holds the owner node of the piece's patch on its inner side.
+  std::vector<std::size_t> owned_segments;
+};
+
 struct MeshResult {
   ValidationReport report;  ///< e.g. a background mesh that does not cover the input (exit 2)
   TriangleMesh mesh;
   std::vector<EmbeddedVertex> embedding;  ///< per input vertex, original input order
   MeshStats stats;
+  /// The background triangulation used (vertices rounded to doubles when they were not exact).
+  TriangleMesh background;
+  /// Per output triangle: the background triangle it copies (output triangles are sorted by it).
+  std::vector<int> background_triangle;
+  /// Per output triangle, when MeshOptions::record_contents is set; empty otherwise.
+  std::vector<CopyContent> contents;
 };
 
-/// Meshes one immersion. @pre `immersion` satisfies Rules 1–7 for `complex.complex`.
+/// Meshes one immersion: background triangulation (generated with CGAL's Delaunay mesher, or
+/// read), virtual triangles (the exact local regions of every triangle cut by the input), one
+/// copy of each cell's triangles per graph node, copies fused across graph edges, vertex copies
+/// merged by union-find (core/unglue.h).
+/// @pre `immersion` satisfies Rules 1–7 for `complex.complex`; options.resolution >= 1.
+/// @return the mesh, or defects in `report` (unreadable background, background not covering the
+///         input). Paper: §7, §7.1 with d = 2.
 MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
                           const MeshOptions& options);
 

@@ -1,0 +1,86 @@
+// Duplicate-and-connect of background elements (paper §7 and §7.1.2; Teran et al. 2005, §6).
+//
+// The dimension-specific meshing code (dim2/, dim3/) cuts every background element (triangle or
+// tetrahedron) by the input and reports what it found as three lists:
+//  - atoms: one per (element, graph node, local region of the element lying in that node's cell).
+//    A cell c with winding number w(c) gives w(c) atoms per local region (one per node);
+//  - fusions: two atoms of the same element glued through an immersion-graph edge across a piece
+//    of a patch inside the element (paper §7: "fuse two identical tets from tet meshes of a and b
+//    if they both embed the same triangle of p");
+//  - adjacencies: two atoms of two elements sharing a face whose parts of that face touch along a
+//    positive measure and that the immersion connects there (paper §7.1.2).
+// This driver then
+//  1. groups the atoms of each element into element copies: the classes of the union-find over
+//     the fusions (atoms never merge across elements here);
+//  2. gives every copy its own D+1 vertex copies and, for every adjacency, merges the D vertex
+//     pairs of the shared face (union-find over vertex copies, Teran et al. 2005 §6);
+//  3. numbers the merged vertex classes compactly.
+// Nothing here knows the dimension beyond the arity D+1 of an element: the same code serves
+// triangles and tetrahedra.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "core/ids.h"
+
+namespace imm {
+
+/// A local region of one background element as seen by one immersion-graph node.
+struct UnglueAtom {
+  std::uint32_t element = 0;     ///< background element index
+  NodeId node;                   ///< the graph node this copy of the local region belongs to
+  std::int32_t local_region = 0; ///< the caller's id of the local region within the element
+};
+
+/// Two atoms of two elements that share a face and are connected across it.
+template <int D>
+struct UnglueAdjacency {
+  std::uint32_t first = 0;   ///< atom index
+  std::uint32_t second = 0;  ///< atom index, in another element
+  std::array<std::int32_t, D> face{};  ///< background vertex ids of the shared face (any order)
+};
+
+/// The input of unglue(): the background mesh and what the element cutting found.
+template <int D>
+struct UnglueInput {
+  /// Background vertex ids of each element (D+1 each). The output keeps this local order.
+  std::vector<std::array<std::int32_t, D + 1>> elements;
+  std::vector<UnglueAtom> atoms;
+  /// Pairs of atom indices in the same element that belong to the same element copy.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> fusions;
+  std::vector<UnglueAdjacency<D>> adjacencies;
+};
+
+/// The unglued mesh: element copies over merged vertex copies.
+template <int D>
+struct UnglueResult {
+  /// Output vertex ids of each copy, in the local order of its background element.
+  std::vector<std::array<std::int32_t, D + 1>> copies;
+  /// Background element of each copy. Copies are sorted by element, and the copies of one element
+  /// by the smallest atom index they contain (deterministic for a given input).
+  std::vector<std::uint32_t> copy_element;
+  /// Reference node of each copy: the smallest node id among its atoms. A copy fused across
+  /// graph edges holds several nodes (all glued to each other inside the element); the smallest
+  /// one names it in outputs (Medit reference numbers).
+  std::vector<NodeId> copy_node;
+  /// The copy each atom ended in (indexed like UnglueInput::atoms).
+  std::vector<std::uint32_t> atom_copy;
+  /// Background vertex of each output vertex.
+  std::vector<std::int32_t> vertex_source;
+};
+
+/// Duplicates elements per union-find class of atoms and connects the copies.
+/// @pre every fusion joins two atoms of one element; every adjacency joins atoms of two different
+///      elements and its face vertices belong to both (checked: InvariantError otherwise).
+/// @return copies over compacted vertex ids; elements without atoms have no copy.
+/// Paper: §7, §7.1.2; Teran et al. 2005, §6.
+template <int D>
+UnglueResult<D> unglue(const UnglueInput<D>& input);
+
+extern template UnglueResult<2> unglue<2>(const UnglueInput<2>&);
+extern template UnglueResult<3> unglue<3>(const UnglueInput<3>&);
+
+}  // namespace imm

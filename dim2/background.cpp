@@ -1,0 +1,326 @@
+// Background triangulations for 2D meshing (paper §7: "arbitrary tet meshes can be used, as long
+// as the volume enclosed by the input is a subset of the volume covered"):
+//  - generated: a CGAL constrained Delaunay triangulation of the input's bounding box, enlarged
+//    by 5% of its diagonal on every side, seeded with a triangular lattice of spacing
+//    0.95 * diagonal / resolution and refined by CGAL's Delaunay mesher (Shewchuk-style
+//    refinement with clusters, not Shewchuk's Triangle program) to shape bound 0.125 and edge
+//    length <= diagonal / resolution;
+//  - conforming (MeshOptions::conforming): the same with every exact cut segment inserted as a
+//    constraint, so that no triangle is crossed by the input;
+//  - read from a Medit .mesh (Dimension 2).
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesher_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include "dim2/cut_curve.h"
+#include "dim2/kernel.h"
+#include "dim2/mesh2_detail.h"
+
+namespace imm::dim2 {
+
+namespace {
+
+using Epick = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+/// Epeck whose circumcenters are rounded to doubles. The conforming mesher must construct points
+/// on the constraints exactly (midpoints and cluster splits of exact cut segments, which may end
+/// at rational crossing points), but its interior Steiner points only need to lie near the
+/// circumcenter. Rounding them keeps every interior vertex a double: exact circumcenters of
+/// circumcenters would make the coordinates' bit length grow with every refinement generation.
+struct ConformingTraits : public Kernel {
+  struct Construct_circumcenter_2 {
+    using result_type = Point_2;
+    Point_2 operator()(const Point_2& p, const Point_2& q, const Point_2& r) const {
+      const Point_2 c = Kernel().construct_circumcenter_2_object()(p, q, r);
+      // The interval approximation is enough: any nearby point is a valid refinement point.
+      return Point_2(CGAL::to_double(c.x()), CGAL::to_double(c.y()));
+    }
+    Point_2 operator()(const Point_2& p, const Point_2& q) const {
+      return Kernel().construct_midpoint_2_object()(p, q);
+    }
+  };
+  Construct_circumcenter_2 construct_circumcenter_2_object() const { return {}; }
+};
+
+template <class Traits>
+struct MesherTypes {
+  using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, Traits>;
+  using Fb = CGAL::Delaunay_mesh_face_base_2<Traits>;
+  using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+  using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Traits, Tds, CGAL::Exact_intersections_tag>;
+  using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
+};
+
+struct Box {
+  double xmin, ymin, xmax, ymax;
+};
+
+Box enlarged_input_box(const Complex2& complex, double& diagonal) {
+  Box box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+          -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (const Curve& curve : complex.curves.curves) {
+    for (const Point& p : curve.vertices) {
+      box.xmin = std::min(box.xmin, p.x);
+      box.ymin = std::min(box.ymin, p.y);
+      box.xmax = std::max(box.xmax, p.x);
+      box.ymax = std::max(box.ymax, p.y);
+    }
+  }
+  diagonal = std::hypot(box.xmax - box.xmin, box.ymax - box.ymin);
+  const double margin = 0.05 * diagonal;
+  return {box.xmin - margin, box.ymin - margin, box.xmax + margin, box.ymax + margin};
+}
+
+/// Inserts the box as constraints (so that the mesher splits its sides), seeds a triangular
+/// lattice of spacing ~ size_bound, and refines. The lattice gives the mesher nearly nothing to do
+/// away from constraints: refinement from the bare box, one circumcenter at a time, costs
+/// super-linear time in CGAL's priority queues (14 s instead of ~2 s for 10^6 triangles).
+template <class Cdt, class Criteria>
+void insert_box_and_refine(Cdt& cdt, const Box& box, double size_bound) {
+  using P = typename Cdt::Point;
+  const double width = box.xmax - box.xmin, height = box.ymax - box.ymin;
+  const double spacing = 0.95 * size_bound;
+  std::vector<P> seeds;
+  const auto nx = static_cast<long>(std::ceil(width / spacing));
+  const auto ny = static_cast<long>(std::ceil(height / spacing));
+  std::vector<P> corners;
+  for (long i = 0; i < nx; ++i) {
+    const double x = box.xmin + width * static_cast<double>(i) / static_cast<double>(nx);
+    corners.emplace_back(x, box.ymin);
+  }
+  for (long j = 0; j < ny; ++j)
+    corners.emplace_back(box.xmax, box.ymin + height * static_cast<double>(j) / static_cast<double>(ny));
+  for (long i = nx; i > 0; --i)
+    corners.emplace_back(box.xmin + width * static_cast<double>(i) / static_cast<double>(nx), box.ymax);
+  for (long j = ny; j > 0; --j)
+    corners.emplace_back(box.xmin, box.ymin + height * static_cast<double>(j) / static_cast<double>(ny));
+  // The box sides, as constraints split at their seeds (points exactly on the sides).
+  for (std::size_t k = 0; k < corners.size(); ++k)
+    cdt.insert_constraint(corners[k], corners[(k + 1) % corners.size()]);
+  const double row = spacing * std::sqrt(3.0) / 2.0;
+  const double margin = 0.5 * spacing;
+  for (long j = 1;; ++j) {
+    const double y = box.ymin + row * static_cast<double>(j);
+    if (y > box.ymax - margin) break;
+    const double shift = (j % 2 == 0) ? 0.0 : 0.5 * spacing;
+    for (long i = 1;; ++i) {
+      const double x = box.xmin + shift + spacing * static_cast<double>(i) - 0.5 * spacing;
+      if (x > box.xmax - margin) break;
+      if (x < box.xmin + margin) continue;
+      seeds.emplace_back(x, y);
+    }
+  }
+  cdt.insert(seeds.begin(), seeds.end());
+  CGAL::refine_Delaunay_mesh_2(cdt, Criteria(0.125, size_bound));
+}
+
+/// Numbers the vertices and lists the finite faces (counter-clockwise in CGAL).
+template <class Cdt, class ToPoint>
+void extract(Cdt& cdt, detail::Background& out, ToPoint&& store_vertex) {
+  int next = 0;
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+    v->info() = next++;
+    store_vertex(v->point());
+  }
+  out.triangles.reserve(cdt.number_of_faces());
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
+    out.triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
+}
+
+detail::Background generate_background(const Complex2& complex, const MeshOptions& options) {
+  IMM_ASSERT(options.resolution >= 1, "mesh resolution must be at least 1");
+  double diagonal = 0.0;
+  const Box box = enlarged_input_box(complex, diagonal);
+  const double size_bound = diagonal / options.resolution;
+  detail::Background out;
+  if (!options.conforming) {
+    using Types = MesherTypes<Epick>;
+    typename Types::Cdt cdt;
+    insert_box_and_refine<typename Types::Cdt, typename Types::Criteria>(cdt, box, size_bound);
+    extract(cdt, out, [&](const Epick::Point_2& p) { out.vertices.push_back({p.x(), p.y()}); });
+    return out;
+  }
+  using Types = MesherTypes<ConformingTraits>;
+  typename Types::Cdt cdt;
+  IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
+  for (const CutSegment& s : complex.exact->segments) cdt.insert_constraint(s.source, s.target);
+  insert_box_and_refine<typename Types::Cdt, typename Types::Criteria>(cdt, box, size_bound);
+  extract(cdt, out, [&](const Point_2& p) {
+    out.vertices.push_back(to_double(p));
+    out.exact_vertices.push_back({to_rational(p.x()), to_rational(p.y())});
+  });
+  return out;
+}
+
+Defect make_defect(DefectKind kind, std::string message) {
+  Defect d;
+  d.kind = kind;
+  d.stage = "read-background";
+  d.message = std::move(message);
+  return d;
+}
+
+}  // namespace
+
+TriangleMesh read_medit_2d(const std::string& path, ValidationReport& report) {
+  TriangleMesh mesh;
+  std::ifstream in(path);
+  if (!in) {
+    report.add(make_defect(DefectKind::Unreadable, "cannot open background mesh '" + path + "'"));
+    return mesh;
+  }
+  // Medit is a whitespace-separated keyword format; '#' starts a comment.
+  std::vector<std::string> tokens;
+  for (std::string line; std::getline(in, line);) {
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    std::istringstream words(line);
+    for (std::string w; words >> w;) tokens.push_back(w);
+  }
+  std::size_t pos = 0;
+  auto fail = [&](const std::string& why) {
+    report.add(make_defect(DefectKind::Unreadable, "background mesh '" + path + "': " + why));
+    return TriangleMesh{};
+  };
+  auto next_number = [&](auto& value) -> bool {
+    if (pos >= tokens.size()) return false;
+    std::istringstream is(tokens[pos++]);
+    is >> value;
+    return !is.fail() && is.eof();
+  };
+  int dimension = 0;
+  bool has_vertices = false;
+  while (pos < tokens.size()) {
+    std::string keyword = tokens[pos++];
+    std::transform(keyword.begin(), keyword.end(), keyword.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (keyword == "end") break;
+    if (keyword == "meshversionformatted") {
+      int version = 0;
+      if (!next_number(version)) return fail("bad MeshVersionFormatted");
+    } else if (keyword == "dimension") {
+      if (!next_number(dimension)) return fail("bad Dimension");
+      if (dimension != 2)
+        return fail("Dimension " + std::to_string(dimension) + ", expected a 2D mesh (Dimension 2)");
+    } else if (keyword == "vertices") {
+      if (dimension != 2) return fail("Vertices before 'Dimension 2'");
+      long n = 0;
+      if (!next_number(n) || n < 0) return fail("bad vertex count");
+      mesh.vertices.resize(static_cast<std::size_t>(n));
+      for (long i = 0; i < n; ++i) {
+        long ref = 0;
+        Point& p = mesh.vertices[static_cast<std::size_t>(i)];
+        if (!next_number(p.x) || !next_number(p.y) || !next_number(ref))
+          return fail("bad vertex " + std::to_string(i + 1));
+        if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+          Defect d = make_defect(DefectKind::NonFinite,
+                                 "background vertex " + std::to_string(i) + " is not finite");
+          d.vertices = {i};
+          report.add(std::move(d));
+        }
+      }
+      has_vertices = true;
+    } else if (keyword == "triangles") {
+      if (!has_vertices) return fail("Triangles before Vertices");
+      long n = 0;
+      if (!next_number(n) || n < 0) return fail("bad triangle count");
+      for (long i = 0; i < n; ++i) {
+        std::array<long, 3> v{};
+        long ref = 0;
+        if (!next_number(v[0]) || !next_number(v[1]) || !next_number(v[2]) || !next_number(ref))
+          return fail("bad triangle " + std::to_string(i + 1));
+        std::array<int, 3> tri{};
+        for (int k = 0; k < 3; ++k) {
+          if (v[k] < 1 || v[k] > static_cast<long>(mesh.vertices.size()))
+            return fail("triangle " + std::to_string(i + 1) + " has vertex index " +
+                        std::to_string(v[k]) + " out of 1.." + std::to_string(mesh.vertices.size()));
+          tri[k] = static_cast<int>(v[k] - 1);
+        }
+        mesh.triangles.push_back(tri);
+        mesh.reference.push_back(static_cast<int>(ref));
+      }
+    } else {
+      // Sections we accept and ignore: count, then a fixed number of integers per entry.
+      static const std::pair<const char*, int> kSkipped[] = {
+          {"edges", 3},         {"corners", 1},         {"requiredvertices", 1},
+          {"ridges", 1},        {"requirededges", 1},   {"requiredtriangles", 1},
+          {"quadrilaterals", 5}};
+      int per_entry = -1;
+      for (const auto& [name, count] : kSkipped)
+        if (keyword == name) per_entry = count;
+      if (per_entry < 0) return fail("unknown keyword '" + tokens[pos - 1] + "'");
+      long n = 0;
+      if (!next_number(n) || n < 0) return fail("bad count after '" + tokens[pos - 1] + "'");
+      const std::size_t skip = static_cast<std::size_t>(n) * static_cast<std::size_t>(per_entry);
+      if (pos + skip > tokens.size()) return fail("truncated section '" + keyword + "'");
+      pos += skip;
+    }
+  }
+  if (mesh.triangles.empty()) {
+    report.add(make_defect(DefectKind::Empty, "background mesh '" + path + "' has no triangles"));
+    return mesh;
+  }
+  if (!report.ok()) return mesh;
+  // Orientation by the exact predicate: clockwise triangles are turned, flat ones are defects.
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    auto& t = mesh.triangles[i];
+    const auto point = [&](int k) {
+      return Epick::Point_2(mesh.vertices[t[k]].x, mesh.vertices[t[k]].y);
+    };
+    const CGAL::Orientation o = CGAL::orientation(point(0), point(1), point(2));
+    if (o == CGAL::COLLINEAR) {
+      Defect d = make_defect(DefectKind::DegenerateFacet,
+                             "background triangle " + std::to_string(i) + " has zero area");
+      d.facets = {static_cast<long>(i)};
+      d.vertices = {t[0], t[1], t[2]};
+      report.add(std::move(d));
+    } else if (o == CGAL::CLOCKWISE) {
+      std::swap(t[1], t[2]);
+    }
+  }
+  return mesh;
+}
+
+std::string format_medit_2d(const TriangleMesh& mesh) {
+  std::ostringstream os;
+  os << std::setprecision(std::numeric_limits<double>::max_digits10);
+  os << "MeshVersionFormatted 2\nDimension 2\nVertices\n" << mesh.vertices.size() << '\n';
+  for (const Point& p : mesh.vertices) os << p.x << ' ' << p.y << " 0\n";
+  os << "Triangles\n" << mesh.triangles.size() << '\n';
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    const int ref = i < mesh.reference.size() ? mesh.reference[i] : 0;
+    os << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << ' ' << ref << '\n';
+  }
+  os << "End\n";
+  return os.str();
+}
+
+namespace detail {
+
+Background make_background(const Complex2& complex, const MeshOptions& options,
+                           ValidationReport& report) {
+  if (options.background_path) {
+    TriangleMesh mesh = read_medit_2d(*options.background_path, report);
+    Background out;
+    if (!report.ok()) return out;
+    out.vertices = std::move(mesh.vertices);
+    out.triangles = std::move(mesh.triangles);
+    return out;
+  }
+  if (options.progress) options.progress("meshing: background triangulation");
+  return generate_background(complex, options);
+}
+
+}  // namespace detail
+
+}  // namespace imm::dim2

@@ -1,0 +1,93 @@
+// Internal interfaces between the three translation units of 2D meshing (not installed, not for
+// callers outside dim2/):
+//  - dim2/background.cpp       builds or reads the background triangulation (CGAL CDT + mesher);
+//  - dim2/virtual_triangles.cpp cuts every background triangle by the input exactly and returns
+//                               its local regions and how they connect (CGAL arrangements);
+//  - dim2/mesh2.cpp            expands local regions into per-node atoms and runs the
+//                               dimension-generic duplicate-and-connect driver (core/unglue.h).
+// CGAL-free on purpose: mesh2.cpp compiles without the exact kernel.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/ids.h"
+#include "core/rational.h"
+#include "dim2/complex2.h"
+#include "dim2/mesh2.h"
+
+namespace imm::dim2::detail {
+
+/// A background triangulation. Triangles are counter-clockwise and non-degenerate.
+struct Background {
+  std::vector<Point> vertices;                  ///< rounded positions (exact when `exact_vertices` is empty)
+  std::vector<std::array<int, 3>> triangles;
+  /// Exact positions when some vertex is not a double (conforming meshes: crossing points and
+  /// points on constraints); empty when `vertices` are exact.
+  std::vector<std::array<Rational, 2>> exact_vertices;
+};
+
+/// Generates (CGAL Delaunay mesher) or reads (options.background_path) the background.
+/// Defects (unreadable file, bad triangles) go to `report`.
+Background make_background(const Complex2& complex, const MeshOptions& options,
+                           ValidationReport& report);
+
+/// The local regions of all background triangles and how they connect. A local region is a
+/// connected component of (closed triangle minus the input); each lies in exactly one region of
+/// the complex. Triangles not cut by the input have exactly one local region.
+struct LocalRegions {
+  /// Local regions of triangle t are first[t] .. first[t+1]-1 (size: triangles + 1).
+  std::vector<std::uint32_t> first;
+  std::vector<RegionId> region;          ///< per local region
+  std::vector<std::uint32_t> triangle;   ///< per local region
+
+  /// Two local regions of one triangle on the two sides of a piece of `patch`.
+  struct Fusion {
+    std::uint32_t inner;  ///< on the patch's negative (inner) side
+    std::uint32_t outer;  ///< on its positive side
+    PatchId patch;
+  };
+  std::vector<Fusion> fusions;  ///< one per (triangle, patch, pair of local regions)
+
+  /// Two local regions of two triangles sharing `edge` whose parts of the edge overlap along a
+  /// positive length. With an invalid `patch` the overlap is free of the input and both lie in
+  /// the same region; otherwise the overlap lies on `patch` (the input runs along the edge):
+  /// `first` is on its inner side, `second` on its outer side.
+  struct Adjacency {
+    std::uint32_t first;
+    std::uint32_t second;
+    PatchId patch;
+    std::array<int, 2> edge;  ///< background vertex ids
+  };
+  std::vector<Adjacency> adjacencies;
+
+  /// Where each input vertex (input order) sits: a local region on the inner side of its patch
+  /// touching the vertex, and exact barycentric coordinates in that triangle, rounded once.
+  struct VertexLocation {
+    std::uint32_t local_region = UINT32_MAX;  ///< UINT32_MAX: not covered by the background
+    PatchId patch;
+    std::array<double, 3> weights{};
+  };
+  std::vector<VertexLocation> vertices;
+
+  /// A curve piece inside a triangle: `local_region` is on its inner side (for diagnostics).
+  struct InnerPiece {
+    std::uint32_t local_region;
+    PatchId patch;
+    std::size_t input_segment;
+  };
+  std::vector<InnerPiece> inner_pieces;  ///< filled when `record_pieces` is set
+
+  std::size_t cut_triangles = 0;  ///< triangles with two or more local regions
+  std::size_t point_locations = 0;  ///< exact ray shootings needed for flood components
+};
+
+/// Cuts every background triangle by the input: exact Sutherland–Hodgman clipping of the nearby
+/// cut segments, exact local arrangement per cut triangle, region labels, fusions, adjacencies
+/// and input-vertex locations. Defects (background not covering the input) go to `report`.
+LocalRegions compute_local_regions(const Complex2& complex, const Background& background,
+                                   bool record_pieces, ValidationReport& report);
+
+}  // namespace imm::dim2::detail
