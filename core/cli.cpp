@@ -1,0 +1,1390 @@
+// The `immerse` command line (DESIGN §3). See core/cli.h for the command list and exit codes.
+//
+// This layer owns everything user-facing: parsing, messages, exit codes, JSON/SVG reports and
+// the one-line timing summary. The library calls below never print; they return reports and
+// verdicts, which are mapped here (CONVENTIONS "Errors and diagnostics"):
+//   ValidationReport not ok            -> exit 2, every defect printed
+//   Inversion / not immersible / budget -> exit 3, the rule / region / cell named
+//   InvariantError, std::exception     -> exit 1
+// Every output goes through write_file_atomic: complete or absent, never half-written.
+#include "core/cli.h"
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <variant>
+
+#include "core/atomic_file.h"
+#include "core/diagnostics.h"
+#include "core/graph_search.h"
+#include "core/report_json.h"
+#include "dim2/complex2.h"
+#include "dim2/curves.h"
+#include "dim2/mesh2.h"
+#include "dim2/svg.h"
+
+#if __has_include("dim2/generators.h")
+#include "dim2/generators.h"
+#define IMM_CLI_HAVE_GENERATORS 1
+#else
+#define IMM_CLI_HAVE_GENERATORS 0
+#endif
+
+namespace imm {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// ---- help texts ---------------------------------------------------------------------------
+
+constexpr const char* kMainHelp = R"(usage: immerse [COMMAND] [ARGS...]
+
+Immersion of self-intersecting curves (Li & Barbic 2018, "Immersion of Self-Intersecting Solids
+and Surfaces"): cell complex, every immersion, and an unglued simulation mesh.
+
+commands:
+  (none)                           the main job on a bundled curve with two immersions; writes
+                                   ./out/ (input, cells, immersions, mesh) and lists the files
+  check IN                         validate the input; list every defect with its location
+  cells IN [--json OUT]            the cell complex: regions, cells, patches, arcs, windings
+  immersions IN [options]          the immersion search (paper §6, Algorithm 1)
+  mesh IN [options]                mesh one immersion (paper §7)
+  generate NAME [PARAMS] [-o OUT]  procedural input curves; 'generate --list' names them
+  help [COMMAND]                   this text, or the options of one command (also CMD --help)
+
+input (2D): closed polygonal curves; the dimension is taken from the file:
+  .txt .xy .poly (and other)  one vertex 'x y' per line, '#' comments, a blank line ends a curve
+  .svg                        <polygon>, <polyline>, <path> with straight segments
+  .obj                        'v' and 'l' lines
+  .off .ply .stl, .obj with faces: 3D surfaces, not supported yet (issue 3): exit code 2
+Orientation is the vertex order; a counter-clockwise outer curve has winding number +1 inside.
+An input whose winding numbers are all <= 0 is reversed (and says so).
+
+exit codes:
+  0   success (check: the input is valid; immersions/mesh: the input is immersible)
+  1   internal error (a bug: please report it), or an output file that could not be written
+  2   invalid input: every defect is printed (kind, stage, curve/vertex ids, coordinates)
+  3   valid input that is not immersible: an inverted region (negative winding number), the
+      conflicting rule with its cells and patches, a possibly self-connecting cell, or
+      "search budget exhausted after N states"
+  64  bad command line (unknown command or option, missing or malformed value)
+
+A one-line timing summary is always printed on stderr, progress messages too when stderr is a
+terminal. Outputs are written to '<path>.tmp.<pid>' and renamed: never a partial file.
+)";
+
+constexpr const char* kCheckHelp = R"(usage: immerse check IN
+
+Reads IN and validates it: empty input, non-finite coordinates, curves with fewer than three
+vertices, repeated consecutive vertices, open OBJ curves, collinear overlaps, a vertex touching
+another segment, three or more segments through one point. Every defect is printed with its
+curve, segment and vertex ids (0-based, file order) and coordinates.
+Exit code 0 when the input is valid (an inverted region is reported as a note: the input is
+valid but not immersible, see 'immerse immersions'), 2 when it is not, 64 on a bad command line.
+)";
+
+constexpr const char* kCellsHelp = R"(usage: immerse cells IN [--json OUT]
+
+Builds the exact cell complex of IN (paper §4) and prints its counts and a table of the cells.
+  --json OUT   write the complex as JSON: counts; per region its winding number, exact area (a
+               rational "p/q" and a double) and simple connectivity; per cell its B-patches and
+               their agreement; per patch its positive/negative regions; per arc its point, its
+               four junction patches in counter-clockwise order and the four wedges (wedge k lies
+               between junction k and k+1); timings in milliseconds.
+Exit codes: 0 ok, 2 invalid input, 3 inverted region, 64 bad command line, 1 internal error.
+)";
+
+constexpr const char* kImmersionsHelp = R"(usage: immerse immersions IN [--all | --max N] [--max-states N] [--time-limit S]
+                           [--json OUT] [--svg DIR]
+
+Searches the immersions of IN (paper §6, Algorithm 1): graphs of cell copies satisfying Rules 1-7.
+  --all            enumerate every immersion (pairwise non-isomorphic)
+  --max N          stop after N immersions (N >= 1; default 1)
+  --max-states N   search budget in explored states (N >= 1; default 50000000)
+  --time-limit S   search budget in seconds (S > 0; default none)
+  --json OUT       status, count, completeness, search statistics and, per immersion, its nodes
+                   (id, cell, copy), edges (inner, outer, patch) and the owner node of every patch
+  --svg DIR        one drawing per immersion, DIR/immersion_K.svg (K = 0, 1, ...)
+Exit codes: 0 immersible, 3 not immersible / inverted / self-connecting cell / budget exhausted
+(the JSON is written in every case), 2 invalid input, 64 bad command line, 1 internal error.
+)";
+
+constexpr const char* kMeshHelp = R"(usage: immerse mesh IN [--resolution N | --background FILE.mesh] [--conforming]
+                     [--immersion K] [--method clip] [-o OUT.mesh] [--embedding OUT.emb]
+                     [--svg OUT.svg] [--json OUT]
+
+Meshes one immersion of IN (paper §7): a background triangulation, virtual triangles where the
+input cuts a triangle, one copy per graph node, copies fused across graph edges.
+  --resolution N        background edges across the bounding-box diagonal (N >= 1; default 24)
+  --background FILE     use this Medit .mesh (Dimension 2) as the background instead
+  --conforming          insert the input as constraints (no triangle is cut by the input)
+  --immersion K         which immersion (0-based, in the search's order; default 0)
+  --method clip         the paper's method (the CSG baseline, 'csg', is not implemented yet)
+  --max-states N, --time-limit S   search budgets, as for 'immerse immersions' 
+  -o OUT.mesh           the output mesh (Medit; each triangle's reference = its graph node)
+  --embedding OUT.emb   per input vertex: output triangle and barycentric weights
+  --svg OUT.svg         the output mesh pulled apart by sheet
+  --json OUT            counts (background, cut and output triangles, vertices, copies per cell)
+                        and timings
+Exit codes: 0 ok, 2 invalid input or background not covering the input, 3 not immersible,
+64 bad command line (also: --immersion K beyond the immersions found), 1 internal error.
+)";
+
+constexpr const char* kGenerateHelp = R"(usage: immerse generate NAME [PARAMS...] [-o OUT]
+       immerse generate --list
+
+Writes a procedural input curve (the paper's figures and test shapes). PARAMS are positional,
+as listed by --list. OUT ending in .obj is written as OBJ 'v'/'l' lines, anything else in the
+text format; without -o the text format goes to standard output.
+Exit codes: 0 ok, 64 unknown name or bad parameters, 1 output not writable.
+)";
+
+const char* help_for(const std::string& command) {
+  if (command == "check") return kCheckHelp;
+  if (command == "cells") return kCellsHelp;
+  if (command == "immersions") return kImmersionsHelp;
+  if (command == "mesh") return kMeshHelp;
+  if (command == "generate") return kGenerateHelp;
+  return nullptr;
+}
+
+// ---- command-line parsing -----------------------------------------------------------------
+
+struct OptionSpec {
+  std::string_view name;  ///< "--json", "-o"
+  bool takes_value;
+};
+
+struct CommandLine {
+  std::vector<std::string> positional;
+  std::map<std::string, std::string> values;
+  std::set<std::string> flags;
+  bool help = false;
+
+  [[nodiscard]] bool has(const std::string& name) const {
+    return flags.count(name) != 0 || values.count(name) != 0;
+  }
+  [[nodiscard]] std::optional<std::string> value(const std::string& name) const {
+    const auto it = values.find(name);
+    if (it == values.end()) return std::nullopt;
+    return it->second;
+  }
+};
+
+/// A usage error: the message, printed with the command's usage line, exit code 64.
+struct UsageError {
+  std::string message;
+};
+
+bool looks_like_number(const std::string& s) {
+  double v = 0;
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  return r.ec == std::errc() && r.ptr == s.data() + s.size();
+}
+
+/// Parses args[first..]; options may be given as "--name value" or "--name=value".
+std::optional<UsageError> parse_command_line(const std::vector<std::string>& args, std::size_t first,
+                                             const std::vector<OptionSpec>& specs, CommandLine& out) {
+  bool options_done = false;
+  for (std::size_t i = first; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    if (options_done || arg.size() < 2 || arg[0] != '-' || looks_like_number(arg)) {
+      out.positional.push_back(arg);
+      continue;
+    }
+    if (arg == "--") {
+      options_done = true;
+      continue;
+    }
+    if (arg == "--help" || arg == "-h") {
+      out.help = true;
+      continue;
+    }
+    std::string name = arg;
+    std::optional<std::string> inline_value;
+    if (const std::size_t eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+      name = arg.substr(0, eq);
+      inline_value = arg.substr(eq + 1);
+    }
+    const auto spec = std::find_if(specs.begin(), specs.end(), [&](const OptionSpec& s) { return s.name == name; });
+    if (spec == specs.end()) return UsageError{"unknown option '" + name + "'"};
+    if (out.has(name)) return UsageError{"option '" + name + "' given twice"};
+    if (!spec->takes_value) {
+      if (inline_value) return UsageError{"option '" + name + "' takes no value"};
+      out.flags.insert(name);
+      continue;
+    }
+    if (inline_value) {
+      out.values[name] = *inline_value;
+    } else if (i + 1 < args.size()) {
+      out.values[name] = args[++i];
+    } else {
+      return UsageError{"option '" + name + "' needs a value"};
+    }
+    if (out.values[name].empty()) return UsageError{"option '" + name + "' needs a non-empty value"};
+  }
+  return std::nullopt;
+}
+
+/// A whole decimal integer in [low, high], or a usage error naming the option.
+std::variant<long long, UsageError> parse_integer(const std::string& option, const std::string& text,
+                                                  long long low, long long high) {
+  long long v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || r.ptr != text.data() + text.size()) {
+    return UsageError{option + " expects an integer, got '" + text + "'"};
+  }
+  if (v < low || v > high) {
+    return UsageError{option + " must be " + (high == std::numeric_limits<long long>::max()
+                                                  ? "at least " + std::to_string(low)
+                                                  : "between " + std::to_string(low) + " and " + std::to_string(high)) +
+                      ", got " + text};
+  }
+  return v;
+}
+
+std::variant<double, UsageError> parse_positive_real(const std::string& option, const std::string& text) {
+  double v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(v)) {
+    return UsageError{option + " expects a number, got '" + text + "'"};
+  }
+  if (!(v > 0.0)) return UsageError{option + " must be positive, got " + text};
+  return v;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string extension_of(const std::string& path) {
+  return lower(std::filesystem::path(path).extension().string());
+}
+
+std::string plural(std::size_t n, const std::string& word, const std::string& words = "") {
+  return std::to_string(n) + " " + (n == 1 ? word : words.empty() ? word + "s" : words);
+}
+
+std::string format_ms(double seconds) {
+  const double ms = seconds * 1e3;
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, ms < 1.0 ? "%.2f ms" : ms < 100.0 ? "%.1f ms" : "%.0f ms", ms);
+  return buffer;
+}
+
+// ---- one run: timings, counts, written files -------------------------------------------------
+
+class Session {
+ public:
+  explicit Session(const CliEnvironment& env) : env_(env) {}
+
+  [[nodiscard]] const CliEnvironment& env() const { return env_; }
+  std::ostream& out() const { return env_.out; }
+  std::ostream& err() const { return env_.err; }
+  [[nodiscard]] bool show_progress() const { return env_.show_progress; }
+
+  /// Runs f() and adds its wall time to `stage` (stages are listed in first-use order).
+  template <class F>
+  auto timed(const std::string& stage, F&& f) {
+    const Clock::time_point start = Clock::now();
+    struct Adder {
+      Session& session;
+      const std::string& stage;
+      Clock::time_point start;
+      ~Adder() { session.add_time(stage, seconds_since(start)); }
+    } adder{*this, stage, start};
+    return f();
+  }
+  void add_time(const std::string& stage, double seconds) {
+    for (auto& [name, total] : stages_) {
+      if (name == stage) {
+        total += seconds;
+        return;
+      }
+    }
+    stages_.emplace_back(stage, seconds);
+  }
+  [[nodiscard]] Json timings_json() const {
+    Json t = Json::object();
+    for (const auto& [name, total] : stages_) t.set(name, total * 1e3);
+    return t;
+  }
+
+  /// What the summary line says before the timings ("4 cells, 8 patches, ...").
+  void set_counts(std::string text) { counts_ = std::move(text); }
+  void enable_summary() { summary_ = true; }
+
+  /// Writes `content` to `path` atomically (creating parent directories), records it for the
+  /// listing. @return false (after printing why) on failure.
+  bool write(const std::string& path, const std::string& content, const std::string& what) {
+    return timed("write", [&] {
+      const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+      if (!parent.empty()) {
+        const WriteStatus dir = ensure_directory(parent.string());
+        if (!dir.ok()) {
+          err() << "immerse: " << dir.error << '\n';
+          return false;
+        }
+      }
+      const WriteStatus status = write_file_atomic(path, content);
+      if (!status.ok()) {
+        err() << "immerse: " << status.error << '\n';
+        return false;
+      }
+      written_.emplace_back(path, what);
+      return true;
+    });
+  }
+  [[nodiscard]] const std::vector<std::pair<std::string, std::string>>& written() const { return written_; }
+
+  void print_summary() const {
+    if (!summary_) return;
+    std::ostringstream os;
+    os << "immerse: " << (counts_.empty() ? std::string("done") : counts_);
+    if (!stages_.empty()) {
+      os << " |";
+      for (std::size_t i = 0; i < stages_.size(); ++i)
+        os << (i ? ", " : " ") << stages_[i].first << ' ' << format_ms(stages_[i].second);
+    }
+    env_.err << os.str() << '\n';
+  }
+
+ private:
+  const CliEnvironment& env_;
+  std::vector<std::pair<std::string, double>> stages_;
+  std::string counts_;
+  bool summary_ = false;
+  std::vector<std::pair<std::string, std::string>> written_;
+};
+
+// ---- JSON pieces ----------------------------------------------------------------------------
+
+Json point_json(const dim2::Point& p) {
+  Json a = Json::array();
+  a.push(p.x);
+  a.push(p.y);
+  return a;
+}
+
+Json defects_json(const ValidationReport& report) {
+  Json list = Json::array();
+  for (const Defect& d : report.defects) {
+    Json& j = list.push(Json::object());
+    j.set("kind", to_string(d.kind));
+    j.set("stage", d.stage);
+    j.set("message", d.message);
+    Json& facets = j.set("segments", Json::array());
+    for (long f : d.facets) facets.push(f);
+    Json& vertices = j.set("vertices", Json::array());
+    for (long v : d.vertices) vertices.push(v);
+    Json& points = j.set("points", Json::array());
+    for (const auto& p : d.points) {
+      Json& q = points.push(Json::array());
+      for (double x : p) q.push(x);
+    }
+  }
+  return list;
+}
+
+Json conflict_json(const Conflict& c) {
+  Json j = Json::object();
+  j.set("rule", c.rule);
+  j.set("message", c.message);
+  Json& cells = j.set("cells", Json::array());
+  for (CellId id : c.cells) cells.push(id.value());
+  Json& nodes = j.set("nodes", Json::array());
+  for (NodeId id : c.nodes) nodes.push(id.value());
+  Json& patches = j.set("patches", Json::array());
+  for (PatchId id : c.patches) patches.push(id.value());
+  j.set("arc", c.arc.is_valid() ? Json(c.arc.value()) : Json());
+  return j;
+}
+
+Json cell_id_json(CellId c) { return c.is_valid() ? Json(c.value()) : Json(); }
+
+/// Counts of the complex, shared by every report.
+Json counts_json(const dim2::Complex2& c2) {
+  const CellComplex<2>& complex = c2.complex;
+  Json j = Json::object();
+  j.set("regions", complex.region_count());
+  j.set("cells", complex.cell_count());
+  j.set("patches", complex.patch_count());
+  j.set("arcs", complex.arc_count());
+  j.set("max_winding", complex.max_winding_number());
+  j.set("arrangement_vertices", c2.arrangement_vertices);
+  j.set("arrangement_edges", c2.arrangement_edges);
+  j.set("arrangement_faces", c2.arrangement_faces);
+  return j;
+}
+
+/// Adds the whole cell complex (paper §4) to the object j: counts, regions, cells, patches, arcs.
+void add_complex_json(Json& j, const dim2::Complex2& c2) {
+  const CellComplex<2>& complex = c2.complex;
+  j.set("counts", counts_json(c2));
+  Rational total = 0;
+  Json& regions = j.set("regions", Json::array());
+  for (RegionId r : ids<RegionId>(complex.region_count())) {
+    Json& o = regions.push(Json::object());
+    o.set("id", r.value());
+    o.set("winding", complex.winding_number(r));
+    o.set("cell", cell_id_json(complex.cell_of(r)));
+    o.set("area", to_string(complex.measure(r)));
+    o.set("area_double", to_double(complex.measure(r)));
+    o.set("simply_connected", complex.is_simply_connected(r));
+    o.set("sample", point_json(c2.region_sample[r]));
+    total += complex.measure(r) * complex.winding_number(r);
+  }
+  j.set("winding_weighted_area", to_string(total));
+  Json& cells = j.set("cells", Json::array());
+  for (CellId c : ids<CellId>(complex.cell_count())) {
+    Json& o = cells.push(Json::object());
+    o.set("id", c.value());
+    o.set("region", complex.region_of(c).value());
+    o.set("winding", complex.winding_number(c));
+    Json& b = o.set("b_patches", Json::array());
+    for (const BPatch& bp : complex.b_patches(c)) {
+      Json& e = b.push(Json::object());
+      e.set("patch", bp.patch.value());
+      e.set("agrees", bp.agrees);
+    }
+    Json& touching = o.set("self_touching_arcs", Json::array());
+    for (ArcId a : complex.self_touching_arcs(c)) touching.push(a.value());
+  }
+  Json& patches = j.set("patches", Json::array());
+  for (PatchId p : ids<PatchId>(complex.patch_count())) {
+    Json& o = patches.push(Json::object());
+    o.set("id", p.value());
+    o.set("positive_region", complex.sides(p).positive.value());
+    o.set("negative_region", complex.sides(p).negative.value());
+    o.set("inner_cell", cell_id_json(complex.inner_cell(p)));
+    o.set("outer_cell", cell_id_json(complex.outer_cell(p)));
+    Json& arcs = o.set("arcs", Json::array());
+    for (ArcId a : complex.arcs_of(p)) arcs.push(a.value());
+  }
+  Json& arcs = j.set("arcs", Json::array());
+  for (ArcId a : ids<ArcId>(complex.arc_count())) {
+    const ArcJunctions& junctions = complex.arc(a);
+    Json& o = arcs.push(Json::object());
+    o.set("id", a.value());
+    o.set("point", point_json(c2.arc_point[a]));
+    Json& patches_ccw = o.set("junction_patches_ccw", Json::array());
+    for (PatchId p : junctions.patch) patches_ccw.push(p.value());
+    Json& wedges = o.set("wedge_regions", Json::array());
+    for (RegionId r : junctions.wedge) wedges.push(r.value());
+  }
+}
+
+Json immersion_json(const Immersion& im, std::size_t index) {
+  Json j = Json::object();
+  j.set("index", index);
+  Json& nodes = j.set("nodes", Json::array());
+  for (NodeId n : ids<NodeId>(im.layout.node_count())) {
+    Json& o = nodes.push(Json::object());
+    o.set("id", n.value());
+    o.set("cell", im.layout.cell(n).value());
+    o.set("copy", im.layout.copy(n));
+  }
+  Json& edges = j.set("edges", Json::array());
+  for (const ImmersionEdge& e : im.edges) {
+    Json& o = edges.push(Json::object());
+    o.set("inner", e.inner.value());
+    o.set("outer", e.outer.value());
+    o.set("patch", e.patch.value());
+  }
+  Json& owner = j.set("owner", Json::array());
+  for (NodeId n : im.owner) owner.push(n.is_valid() ? Json(n.value()) : Json());
+  Json& components = j.set("components", Json::array());
+  for (const auto& component : im.components()) {
+    Json& c = components.push(Json::array());
+    for (NodeId n : component) c.push(n.value());
+  }
+  return j;
+}
+
+Json stats_json(const SearchStats& s) {
+  Json j = Json::object();
+  j.set("states", s.states);
+  j.set("branches", s.branches);
+  j.set("dead_ends", s.dead_ends);
+  j.set("duplicates", s.duplicates);
+  j.set("groups", s.groups);
+  j.set("seconds", s.seconds);
+  return j;
+}
+
+Json inversion_json(const dim2::Inversion& inv) {
+  Json j = Json::object();
+  j.set("region", inv.region.value());
+  j.set("winding", inv.winding_number);
+  j.set("sample", point_json(inv.sample));
+  j.set("message", inv.message);
+  return j;
+}
+
+// ---- input ----------------------------------------------------------------------------------
+
+/// Everything read and built from one input file.
+struct Prepared {
+  std::string path;
+  dim2::CurveSet curves;
+  ValidationReport report;                 ///< defects: exit 2
+  std::optional<dim2::Inversion> inversion;///< set: exit 3 (check: a note)
+  std::shared_ptr<dim2::Complex2> complex;
+};
+
+/// True when the file is a 3D surface: by extension, or an OBJ with faces and no 'l' lines.
+bool is_surface_file(const std::string& path) {
+  const std::string ext = extension_of(path);
+  if (ext == ".off" || ext == ".ply" || ext == ".stl") return true;
+  if (ext != ".obj") return false;
+  std::ifstream in(path);
+  if (!in) return false;  // the 2D reader reports it
+  bool faces = false, lines = false;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::size_t i = line.find_first_not_of(" \t");
+    if (i == std::string::npos || i + 1 >= line.size()) continue;
+    if (line[i + 1] != ' ' && line[i + 1] != '\t') continue;
+    faces = faces || line[i] == 'f';
+    lines = lines || line[i] == 'l';
+  }
+  return faces && !lines;
+}
+
+Json input_json(const Prepared& p) {
+  Json j = Json::object();
+  j.set("path", p.path);
+  j.set("dimension", 2);
+  j.set("curves", p.curves.curves.size());
+  j.set("vertices", p.curves.vertex_count());
+  j.set("reversed", p.complex ? Json(p.complex->reversed) : Json());
+  return j;
+}
+
+void print_defects(Session& s, const Prepared& p) {
+  s.err() << "immerse: invalid input '" << p.path << "': " << plural(p.report.defects.size(), "defect") << '\n'
+          << p.report.summary(std::numeric_limits<std::size_t>::max());
+  s.set_counts("invalid input (" + plural(p.report.defects.size(), "defect") + ")");
+}
+
+/// "2 immersions", "at least 2 immersions", "search budget exhausted" for the summary line.
+std::string immersion_counts(const SearchResult& r) {
+  if (r.status == ImmersionStatus::SearchBudgetExhausted) return "search budget exhausted";
+  return (r.complete || r.immersions.empty() ? "" : "at least ") + plural(r.immersions.size(), "immersion");
+}
+
+std::string complex_counts(const dim2::Complex2& c2) {
+  const CellComplex<2>& c = c2.complex;
+  return plural(c.cell_count(), "cell") + ", " + plural(c.patch_count(), "patch", "patches") + ", " +
+         plural(c.arc_count(), "arc");
+}
+
+/// Reads, validates and builds the cell complex. @return kExitOk, or kExitInvalidInput after
+/// printing every defect. An inversion is left in p.inversion for the caller.
+int prepare_curves(Session& s, Prepared& p) {
+  if (is_surface_file(p.path)) {
+    p.report.add(Defect{DefectKind::Unreadable, "read",
+                        "'" + p.path + "' is a 3D surface: 3D surfaces are not supported yet (issue 3); "
+                        "2D input is .txt/.xy/.poly, .svg, or .obj with 'l' lines",
+                        {}, {}, {}});
+    print_defects(s, p);
+    return kExitInvalidInput;
+  }
+  dim2::ReadResult read = s.timed("read", [&] { return dim2::read_curves(p.path); });
+  p.curves = std::move(read.curves);
+  p.report = std::move(read.report);
+  if (!p.report.ok()) {
+    print_defects(s, p);
+    return kExitInvalidInput;
+  }
+  dim2::BuildResult built = s.timed("complex", [&] { return dim2::build_complex(p.curves); });
+  if (!built.report.ok()) {
+    p.report = std::move(built.report);
+    print_defects(s, p);
+    return kExitInvalidInput;
+  }
+  p.inversion = std::move(built.inversion);
+  p.complex = std::move(built.complex);
+  if (p.complex && p.complex->reversed) {
+    s.err() << "immerse: note: every winding number of '" << p.path
+            << "' is <= 0 (clockwise curves): the input was reversed; winding numbers and patch "
+               "directions refer to the reversed curves, vertex and segment ids keep the file order\n";
+  }
+  if (p.inversion) {
+    s.set_counts("inverted region, not immersible");
+  } else if (p.complex) {
+    s.set_counts(complex_counts(*p.complex));
+  }
+  return kExitOk;
+}
+
+void print_inversion(Session& s, const Prepared& p) {
+  s.err() << "immerse: '" << p.path << "' is not immersible: " << p.inversion->message << '\n';
+}
+
+// ---- search ------------------------------------------------------------------------------------
+
+struct SearchRequest {
+  std::size_t max_immersions = 1;
+  std::size_t max_states = SearchOptions{}.max_states;
+  double time_limit = 0.0;
+};
+
+SearchResult run_search(Session& s, const dim2::Complex2& c2, const SearchRequest& request) {
+  SearchOptions options;
+  options.max_immersions = request.max_immersions;
+  options.max_states = request.max_states;
+  options.time_limit_seconds = request.time_limit;
+  if (s.show_progress()) options.progress = [&s](const std::string& m) { s.err() << "immerse: search: " << m << '\n'; };
+  return s.timed("search", [&] { return find_immersions(c2.complex, options); });
+}
+
+/// The verdict line for a search without immersions (exit 3), on stderr.
+void print_no_immersion(Session& s, const Prepared& p, const SearchResult& r) {
+  std::ostringstream os;
+  os << "immerse: '" << p.path << "' ";
+  switch (r.status) {
+    case ImmersionStatus::NotImmersible:
+      os << "is not immersible";
+      if (r.conflict.rule > 0 && r.conflict.message.find("Rule " + std::to_string(r.conflict.rule)) == std::string::npos) {
+        os << " (Rule " << r.conflict.rule << " cannot be satisfied)";
+      }
+      os << ": " << r.conflict.message;
+      break;
+    case ImmersionStatus::SelfConnectingCell:
+      os << "has no simple immersion (self-connecting cell";
+      if (!r.conflict.cells.empty()) os << " " << r.conflict.cells.front();
+      os << "): " << r.conflict.message;
+      break;
+    case ImmersionStatus::SearchBudgetExhausted:
+      os << "could not be decided: " << r.conflict.message
+         << " (raise --max-states / --time-limit)";
+      break;
+    case ImmersionStatus::Immersible: os << "is immersible"; break;
+  }
+  s.err() << os.str() << '\n';
+}
+
+Json search_json(const Prepared& p, const SearchResult& r, const Session& s) {
+  Json j = Json::object();
+  j.set("input", input_json(p));
+  j.set("status", to_string(r.status));
+  j.set("count", r.immersions.size());
+  j.set("complete", r.complete);
+  j.set("stats", stats_json(r.stats));
+  j.set("conflict", r.status == ImmersionStatus::Immersible ? Json() : conflict_json(r.conflict));
+  Json& list = j.set("immersions", Json::array());
+  for (std::size_t k = 0; k < r.immersions.size(); ++k) list.push(immersion_json(r.immersions[k], k));
+  j.set("timings_ms", s.timings_json());
+  return j;
+}
+
+/// JSON for an input that never reached the search (defects or inversion).
+Json early_json(const Prepared& p, const Session& s) {
+  Json j = Json::object();
+  j.set("input", input_json(p));
+  if (!p.report.ok()) {
+    j.set("status", "invalid-input");
+    j.set("defects", defects_json(p.report));
+  } else if (p.inversion) {
+    j.set("status", "inverted");
+    j.set("inversion", inversion_json(*p.inversion));
+  }
+  j.set("timings_ms", s.timings_json());
+  return j;
+}
+
+// ---- generators -----------------------------------------------------------------------------
+
+struct GeneratorEntry {
+  std::string name;
+  std::string params;       ///< "N SEED", "[N]"
+  std::string description;
+};
+
+struct Generated {
+  dim2::CurveSet curves;
+  std::string error;  ///< non-empty: unknown name or bad parameters (usage error)
+};
+
+#if IMM_CLI_HAVE_GENERATORS
+
+std::vector<GeneratorEntry> generator_list() {
+  std::vector<GeneratorEntry> out;
+  for (const auto& g : dim2::curve_generators()) out.push_back({g.name, g.params, g.description});
+  return out;
+}
+Generated generate_named(const std::string& name, const std::vector<std::string>& params) {
+  auto g = dim2::generate_curves(name, params);
+  return {std::move(g.curves), std::move(g.error)};
+}
+constexpr const char* kDefaultInput = "fig6";
+
+#else
+
+// Built-in stand-ins until dim2/generators.h exists (see the report to the lead).
+constexpr double kPi = std::numbers::pi;
+
+std::optional<long long> integer_param(const std::vector<std::string>& params, std::size_t i, long long fallback,
+                                       long long low, long long high, std::string& error) {
+  if (i >= params.size()) return fallback;
+  auto v = parse_integer("parameter " + std::to_string(i + 1), params[i], low, high);
+  if (auto* e = std::get_if<UsageError>(&v)) {
+    error = e->message;
+    return std::nullopt;
+  }
+  return std::get<long long>(v);
+}
+
+dim2::Curve sampled(std::size_t n, const std::function<dim2::Point(double)>& f) {
+  dim2::Curve c;
+  for (std::size_t k = 0; k < n; ++k) {
+    const dim2::Point p = f(2.0 * kPi * (static_cast<double>(k) + 0.5) / static_cast<double>(n));
+    c.vertices.push_back({std::round(p.x), std::round(p.y)});
+  }
+  return c;
+}
+
+std::vector<GeneratorEntry> generator_list() {
+  return {
+      {"doodle", "[N=120]",
+       "z(t) = e^{it} + 1.3 e^{3it} + 0.6 e^{-5it} (x1000): 10 crossings, winding up to 3, two immersions"},
+      {"convex", "[N=12]", "a regular N-gon (one immersion)"},
+      {"limacon", "[N=24]", "limacon with an inner loop, r = 100 (1 + 2 cos t): turning number 2, not immersible"},
+      {"figure8", "[N=48]", "a figure-eight: winding numbers +1 and -1, inverts space"},
+      {"random", "N SEED", "a random star-shaped simple polygon with N vertices"},
+  };
+}
+
+Generated generate_named(const std::string& name, const std::vector<std::string>& params) {
+  Generated g;
+  const auto too_many = [&](std::size_t allowed) {
+    if (params.size() > allowed) g.error = "'" + name + "' takes at most " + plural(allowed, "parameter");
+    return !g.error.empty();
+  };
+  if (name == "doodle") {
+    if (too_many(1)) return g;
+    const auto n = integer_param(params, 0, 120, 60, 1'000'000, g.error);
+    if (!n) return g;
+    g.curves.curves.push_back(sampled(static_cast<std::size_t>(*n), [](double t) {
+      const double x = std::cos(t) + 1.3 * std::cos(3 * t) + 0.6 * std::cos(-5 * t);
+      const double y = std::sin(t) + 1.3 * std::sin(3 * t) + 0.6 * std::sin(-5 * t);
+      return dim2::Point{1000.0 * x, 1000.0 * y};
+    }));
+  } else if (name == "convex") {
+    if (too_many(1)) return g;
+    const auto n = integer_param(params, 0, 12, 3, 1'000'000, g.error);
+    if (!n) return g;
+    dim2::Curve c;
+    for (long long k = 0; k < *n; ++k) {
+      const double t = 2.0 * kPi * static_cast<double>(k) / static_cast<double>(*n);
+      c.vertices.push_back({1e6 * std::cos(t), 1e6 * std::sin(t)});
+    }
+    g.curves.curves.push_back(std::move(c));
+  } else if (name == "limacon") {
+    if (too_many(1)) return g;
+    const auto n = integer_param(params, 0, 24, 12, 1'000'000, g.error);
+    if (!n) return g;
+    g.curves.curves.push_back(sampled(static_cast<std::size_t>(*n), [](double t) {
+      const double r = 100.0 * (1.0 + 2.0 * std::cos(t));
+      return dim2::Point{r * std::cos(t), r * std::sin(t)};
+    }));
+  } else if (name == "figure8") {
+    if (too_many(1)) return g;
+    const auto n = integer_param(params, 0, 48, 8, 1'000'000, g.error);
+    if (!n) return g;
+    g.curves.curves.push_back(sampled(static_cast<std::size_t>(*n), [](double t) {
+      return dim2::Point{1000.0 * std::sin(t), 500.0 * std::sin(2 * t)};
+    }));
+  } else if (name == "random") {
+    if (params.size() != 2) {
+      g.error = "'random' takes two parameters: N SEED";
+      return g;
+    }
+    const auto n = integer_param(params, 0, 0, 3, 1'000'000, g.error);
+    if (!n) return g;
+    const auto seed = integer_param(params, 1, 0, 0, std::numeric_limits<long long>::max(), g.error);
+    if (!seed) return g;
+    std::mt19937_64 rng(static_cast<std::uint64_t>(*seed));
+    std::vector<double> angles;
+    for (long long k = 0; k < *n; ++k) angles.push_back(std::uniform_real_distribution<double>(0, 2 * kPi)(rng));
+    std::sort(angles.begin(), angles.end());
+    dim2::Curve c;
+    for (double a : angles) {
+      const double r = std::uniform_real_distribution<double>(300.0, 1000.0)(rng);
+      const dim2::Point p{std::round(r * std::cos(a)), std::round(r * std::sin(a))};
+      if (c.vertices.empty() || !(c.vertices.back() == p)) c.vertices.push_back(p);
+    }
+    g.curves.curves.push_back(std::move(c));
+  } else {
+    g.error = "unknown generator '" + name + "' (see 'immerse generate --list')";
+  }
+  return g;
+}
+constexpr const char* kDefaultInput = "doodle";
+
+#endif
+
+/// The curves in the format chosen by the output extension (.obj: v/l lines; else text).
+std::string format_curves_for(const std::string& path, const dim2::CurveSet& curves) {
+  if (extension_of(path) != ".obj") return dim2::format_curves_text(curves);
+  std::string out = "# immerse generate: one 'l' element per closed curve\n";
+  std::size_t base = 1;
+  for (const dim2::Curve& c : curves.curves) {
+    for (const dim2::Point& p : c.vertices) {
+      out += "v ";
+      out += dim2::format_number(p.x);
+      out += ' ';
+      out += dim2::format_number(p.y);
+      out += " 0\n";
+    }
+  }
+  for (const dim2::Curve& c : curves.curves) {
+    out += "l";
+    for (std::size_t i = 0; i <= c.vertices.size(); ++i) {
+      out += ' ';
+      out += std::to_string(base + i % c.vertices.size());
+    }
+    out += '\n';
+    base += c.vertices.size();
+  }
+  return out;
+}
+
+// ---- commands -------------------------------------------------------------------------------
+
+constexpr std::size_t kMaxTableRows = 40;
+
+int usage_error(const CliEnvironment& env, const std::string& command, const std::string& message) {
+  env.err << "immerse" << (command.empty() ? "" : " " + command) << ": " << message << '\n';
+  if (const char* help = help_for(command)) {
+    const std::string text = help;
+    env.err << text.substr(0, text.find("\n\n")) << '\n';
+  }
+  env.err << "run 'immerse " << (command.empty() ? "" : command + " ") << "--help' for details\n";
+  return kExitUsage;
+}
+
+/// Parses a command's arguments. @return an exit code when the command must stop here (help
+/// printed: 0; usage error printed: 64).
+std::optional<int> parse_or_exit(const CliEnvironment& env, const std::string& command,
+                                 const std::vector<std::string>& args, const std::vector<OptionSpec>& specs,
+                                 std::size_t min_positional, std::size_t max_positional, CommandLine& cl) {
+  if (auto error = parse_command_line(args, 1, specs, cl)) return usage_error(env, command, error->message);
+  if (cl.help) {
+    env.out << help_for(command);
+    return kExitOk;
+  }
+  if (cl.positional.size() < min_positional) {
+    return usage_error(env, command, command == "generate" ? "missing generator name" : "missing input file");
+  }
+  if (cl.positional.size() > max_positional) {
+    return usage_error(env, command, "unexpected argument '" + cl.positional[max_positional] + "'");
+  }
+  return std::nullopt;
+}
+
+void print_written(Session& s, std::size_t from = 0) {
+  const auto& written = s.written();
+  std::size_t width = 0;
+  for (std::size_t i = from; i < written.size(); ++i) width = std::max(width, written[i].first.size());
+  for (std::size_t i = from; i < written.size(); ++i) {
+    s.out() << "wrote " << written[i].first << std::string(width - written[i].first.size() + 2, ' ')
+            << written[i].second << '\n';
+  }
+}
+
+std::string describe_input(const Prepared& p) {
+  return "'" + p.path + "': 2D input, " + plural(p.curves.curves.size(), "curve") + ", " +
+         plural(p.curves.vertex_count(), "vertex", "vertices");
+}
+
+Json cells_report_json(const Prepared& p, const Session& s) {
+  Json j = Json::object();
+  j.set("input", input_json(p));
+  j.set("status", "ok");
+  add_complex_json(j, *p.complex);
+  j.set("timings_ms", s.timings_json());
+  return j;
+}
+
+void print_cell_table(Session& s, const dim2::Complex2& c2) {
+  const CellComplex<2>& c = c2.complex;
+  s.out() << plural(c.region_count(), "region") << ", " << plural(c.cell_count(), "cell") << ", "
+          << plural(c.patch_count(), "patch", "patches") << ", " << plural(c.arc_count(), "arc")
+          << " (crossings), max winding number " << c.max_winding_number() << '\n';
+  s.out() << " cell  region  winding  simply-connected          area  B-patches (* = disagrees)\n";
+  std::size_t rows = 0;
+  for (CellId cell : ids<CellId>(c.cell_count())) {
+    if (++rows > kMaxTableRows) {
+      s.out() << " ... and " << (c.cell_count() - kMaxTableRows) << " more cells (see --json)\n";
+      break;
+    }
+    const RegionId r = c.region_of(cell);
+    char line[128];
+    std::snprintf(line, sizeof line, "%5d  %6d  %7d  %16s  %12.6g  ", cell.value(), r.value(), c.winding_number(cell),
+                  c.is_simply_connected(r) ? "yes" : "no", to_double(c.measure(r)));
+    std::string patches;
+    for (const BPatch& b : c.b_patches(cell)) {
+      if (patches.size() > 40) {
+        patches += " ...";
+        break;
+      }
+      patches += (patches.empty() ? "P" : " P") + std::to_string(b.patch.value()) + (b.agrees ? "" : "*");
+    }
+    s.out() << line << patches << '\n';
+  }
+}
+
+int command_check(Session& s, const CommandLine& cl) {
+  s.enable_summary();
+  Prepared p;
+  p.path = cl.positional[0];
+  if (const int code = prepare_curves(s, p); code != kExitOk) return code;
+  s.out() << describe_input(p) << ": valid";
+  if (p.inversion) {
+    s.out() << "\nnote: " << p.inversion->message
+            << "\n(the input is valid but not immersible: 'immerse immersions' exits with code 3)\n";
+    return kExitOk;
+  }
+  const CellComplex<2>& c = p.complex->complex;
+  s.out() << " (" << plural(c.arc_count(), "crossing") << ", " << plural(c.cell_count(), "cell")
+          << ", max winding number " << c.max_winding_number() << (p.complex->reversed ? ", reversed" : "") << ")\n";
+  return kExitOk;
+}
+
+int command_cells(Session& s, const CommandLine& cl) {
+  s.enable_summary();
+  Prepared p;
+  p.path = cl.positional[0];
+  const auto json_path = cl.value("--json");
+  int code = prepare_curves(s, p);
+  if (code == kExitOk && p.inversion) {
+    print_inversion(s, p);
+    code = kExitNotImmersible;
+  }
+  if (code != kExitOk) {
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report")) return kExitInternalError;
+    print_written(s);
+    return code;
+  }
+  s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << '\n';
+  print_cell_table(s, *p.complex);
+  if (json_path && !s.write(*json_path, cells_report_json(p, s).dump(), "the cell complex (JSON)")) {
+    return kExitInternalError;
+  }
+  print_written(s);
+  return kExitOk;
+}
+
+/// --all / --max / --max-states / --time-limit. @return a usage error message, or empty.
+std::string parse_search_request(const CommandLine& cl, SearchRequest& request) {
+  if (cl.has("--all") && cl.has("--max")) return "--all and --max exclude each other";
+  if (cl.has("--all")) request.max_immersions = 0;
+  if (auto v = cl.value("--max")) {
+    auto n = parse_integer("--max", *v, 1, std::numeric_limits<long long>::max());
+    if (auto* e = std::get_if<UsageError>(&n)) return e->message;
+    request.max_immersions = static_cast<std::size_t>(std::get<long long>(n));
+  }
+  if (auto v = cl.value("--max-states")) {
+    auto n = parse_integer("--max-states", *v, 1, std::numeric_limits<long long>::max());
+    if (auto* e = std::get_if<UsageError>(&n)) return e->message;
+    request.max_states = static_cast<std::size_t>(std::get<long long>(n));
+  }
+  if (auto v = cl.value("--time-limit")) {
+    auto t = parse_positive_real("--time-limit", *v);
+    if (auto* e = std::get_if<UsageError>(&t)) return e->message;
+    request.time_limit = std::get<double>(t);
+  }
+  return {};
+}
+
+void print_search_result(Session& s, const Prepared& p, const SearchResult& r, const SearchRequest& request) {
+  if (r.status != ImmersionStatus::Immersible) {
+    print_no_immersion(s, p, r);
+    return;
+  }
+  s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << ": immersible, "
+          << plural(r.immersions.size(), "immersion");
+  if (r.complete) {
+    s.out() << (r.immersions.size() == 1 ? " (the only one)" : " (all of them)");
+  } else if (request.max_immersions != 0 && r.immersions.size() >= request.max_immersions) {
+    s.out() << " (stopped at " << request.max_immersions << "; more may exist: use --all)";
+  } else {
+    s.out() << " (the search budget ran out after " << r.stats.states
+            << " states; more may exist: raise --max-states / --time-limit)";
+  }
+  s.out() << '\n';
+  for (std::size_t k = 0; k < r.immersions.size() && k < kMaxTableRows; ++k) {
+    const Immersion& im = r.immersions[k];
+    s.out() << "  immersion " << k << ": " << plural(im.layout.node_count(), "node") << ", "
+            << plural(im.edges.size(), "edge") << ", " << plural(im.components().size(), "connected component")
+            << '\n';
+  }
+  if (r.immersions.size() > kMaxTableRows) s.out() << "  ... (see --json)\n";
+}
+
+/// Writes DIR/immersion_K.svg for every immersion. @return false on a write failure.
+bool write_immersion_svgs(Session& s, const Prepared& p, const SearchResult& r, const std::string& dir) {
+  for (std::size_t k = 0; k < r.immersions.size(); ++k) {
+    dim2::SvgOptions options;
+    options.title = "immersion " + std::to_string(k) + " of " + std::to_string(r.immersions.size()) +
+                    (r.complete ? "" : "+") + ": " + std::filesystem::path(p.path).filename().string();
+    const std::string path = (std::filesystem::path(dir) / ("immersion_" + std::to_string(k) + ".svg")).string();
+    if (!s.write(path, dim2::format_immersion_svg(*p.complex, r.immersions[k], options),
+                 "immersion " + std::to_string(k) + " (SVG: cell copies, owned/declined patches, graph edges)")) {
+      return false;
+    }
+  }
+  return true;
+}
+
+int command_immersions(Session& s, const CommandLine& cl) {
+  SearchRequest request;
+  if (std::string error = parse_search_request(cl, request); !error.empty()) {
+    return usage_error(s.env(), "immersions", error);
+  }
+  s.enable_summary();
+  Prepared p;
+  p.path = cl.positional[0];
+  const auto json_path = cl.value("--json");
+  int code = prepare_curves(s, p);
+  if (code == kExitOk && p.inversion) {
+    print_inversion(s, p);
+    code = kExitNotImmersible;
+  }
+  if (code != kExitOk) {
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report")) return kExitInternalError;
+    print_written(s);
+    return code;
+  }
+  const SearchResult r = run_search(s, *p.complex, request);
+  s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
+  print_search_result(s, p, r, request);
+  if (json_path && !s.write(*json_path, search_json(p, r, s).dump(), "the immersions (JSON)")) {
+    return kExitInternalError;
+  }
+  if (auto dir = cl.value("--svg"); dir && !write_immersion_svgs(s, p, r, *dir)) return kExitInternalError;
+  print_written(s);
+  return r.status == ImmersionStatus::Immersible ? kExitOk : kExitNotImmersible;
+}
+
+Json mesh_json(const Prepared& p, const SearchResult& r, std::size_t k, const dim2::MeshOptions& options,
+               const dim2::MeshResult& m, const CommandLine& cl, const Session& s) {
+  Json j = Json::object();
+  j.set("input", input_json(p));
+  j.set("status", "ok");
+  j.set("immersion", k);
+  j.set("immersions_found", r.immersions.size());
+  Json& o = j.set("options", Json::object());
+  o.set("resolution", options.background_path ? Json() : Json(options.resolution));
+  o.set("background", options.background_path ? Json(*options.background_path) : Json());
+  o.set("conforming", options.conforming);
+  o.set("method", "clip");
+  Json& c = j.set("counts", Json::object());
+  c.set("input_vertices", p.curves.vertex_count());
+  c.set("background_triangles", m.stats.background_triangles);
+  c.set("cut_triangles", m.stats.cut_triangles);
+  c.set("output_triangles", m.stats.output_triangles);
+  c.set("output_vertices", m.stats.output_vertices);
+  c.set("embedded_vertices", m.embedding.size());
+  c.set("graph_nodes", r.immersions[k].layout.node_count());
+  Json& per_cell = c.set("copies_per_cell", Json::array());
+  for (std::size_t n : m.stats.copies_per_cell) per_cell.push(n);
+  Json& phases = j.set("mesh_phases_ms", Json::object());
+  phases.set("background", m.stats.seconds_background * 1e3);
+  phases.set("virtual", m.stats.seconds_virtual * 1e3);
+  phases.set("assembly", m.stats.seconds_assembly * 1e3);
+  Json& outputs = j.set("outputs", Json::object());
+  for (const char* option : {"-o", "--embedding", "--svg"}) {
+    const auto v = cl.value(option);
+    outputs.set(std::string(option) == "-o" ? "mesh" : std::string(option).substr(2), v ? Json(*v) : Json());
+  }
+  j.set("timings_ms", s.timings_json());
+  return j;
+}
+
+/// Meshes immersion k and writes the requested outputs (paths in `cl`: -o, --embedding, --svg,
+/// --json). @return the exit code.
+int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::size_t k,
+                   const dim2::MeshOptions& options, const CommandLine& cl) {
+  dim2::MeshOptions mesh_options = options;
+  if (s.show_progress()) mesh_options.progress = [&s](const std::string& m) { s.err() << "immerse: mesh: " << m << '\n'; };
+  const dim2::MeshResult m =
+      s.timed("mesh", [&] { return dim2::mesh_immersion(*p.complex, r.immersions[k], mesh_options); });
+  if (!m.report.ok()) {
+    s.err() << "immerse: cannot mesh '" << p.path << "': " << plural(m.report.defects.size(), "defect") << '\n'
+            << m.report.summary(std::numeric_limits<std::size_t>::max());
+    s.set_counts("meshing failed (" + plural(m.report.defects.size(), "defect") + ")");
+    if (auto json_path = cl.value("--json")) {
+      Json j = Json::object();
+      j.set("input", input_json(p));
+      j.set("status", "invalid-input");
+      j.set("defects", defects_json(m.report));
+      j.set("timings_ms", s.timings_json());
+      if (!s.write(*json_path, j.dump(), "report")) return kExitInternalError;
+    }
+    return kExitInvalidInput;
+  }
+  s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r) + ", " +
+               plural(m.stats.output_triangles, "triangle"));
+  s.out() << describe_input(p) << ": immersion " << k << " of " << r.immersions.size() << (r.complete ? "" : "+")
+          << " meshed: " << plural(m.stats.output_triangles, "triangle") << ", "
+          << plural(m.stats.output_vertices, "vertex", "vertices") << " (background "
+          << plural(m.stats.background_triangles, "triangle") << ", " << m.stats.cut_triangles
+          << " cut by the input)\n";
+  if (auto path = cl.value("-o"); path && !s.write(*path, dim2::format_medit_2d(m.mesh), "the mesh (Medit, reference = graph node)")) {
+    return kExitInternalError;
+  }
+  if (auto path = cl.value("--embedding");
+      path && !s.write(*path, dim2::format_embedding(m.embedding), "the embedding of the input vertices")) {
+    return kExitInternalError;
+  }
+  if (auto path = cl.value("--svg");
+      path && !s.write(*path, dim2::format_mesh_svg(*p.complex, r.immersions[k], m), "the mesh pulled apart (SVG)")) {
+    return kExitInternalError;
+  }
+  if (auto path = cl.value("--json");
+      path && !s.write(*path, mesh_json(p, r, k, mesh_options, m, cl, s).dump(), "mesh counts and timings (JSON)")) {
+    return kExitInternalError;
+  }
+  return kExitOk;
+}
+
+int command_mesh(Session& s, const CommandLine& cl) {
+  const CliEnvironment& env = s.env();
+  dim2::MeshOptions options;
+  if (cl.has("--resolution") && cl.has("--background")) {
+    return usage_error(env, "mesh", "--resolution and --background exclude each other");
+  }
+  if (auto v = cl.value("--resolution")) {
+    auto n = parse_integer("--resolution", *v, 1, 100'000);
+    if (auto* e = std::get_if<UsageError>(&n)) return usage_error(env, "mesh", e->message);
+    options.resolution = static_cast<int>(std::get<long long>(n));
+  }
+  if (auto v = cl.value("--background")) options.background_path = *v;
+  options.conforming = cl.has("--conforming");
+  std::size_t k = 0;
+  if (auto v = cl.value("--immersion")) {
+    auto n = parse_integer("--immersion", *v, 0, 1'000'000);
+    if (auto* e = std::get_if<UsageError>(&n)) return usage_error(env, "mesh", e->message);
+    k = static_cast<std::size_t>(std::get<long long>(n));
+  }
+  if (auto v = cl.value("--method"); v && *v != "clip") {
+    if (*v == "csg") return usage_error(env, "mesh", "--method csg: the CSG baseline is not implemented yet");
+    return usage_error(env, "mesh", "--method expects 'clip' or 'csg', got '" + *v + "'");
+  }
+  SearchRequest request;
+  if (std::string error = parse_search_request(cl, request); !error.empty()) return usage_error(env, "mesh", error);
+  request.max_immersions = k + 1;
+
+  s.enable_summary();
+  Prepared p;
+  p.path = cl.positional[0];
+  const auto json_path = cl.value("--json");
+  int code = prepare_curves(s, p);
+  if (code == kExitOk && p.inversion) {
+    print_inversion(s, p);
+    code = kExitNotImmersible;
+  }
+  if (code != kExitOk) {
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report")) return kExitInternalError;
+    print_written(s);
+    return code;
+  }
+  const SearchResult r = run_search(s, *p.complex, request);
+  if (r.status != ImmersionStatus::Immersible) {
+    s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
+    print_no_immersion(s, p, r);
+    if (json_path && !s.write(*json_path, search_json(p, r, s).dump(), "report")) return kExitInternalError;
+    print_written(s);
+    return kExitNotImmersible;
+  }
+  if (r.immersions.size() <= k) {
+    s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
+    return usage_error(env, "mesh",
+                       "--immersion " + std::to_string(k) + ": '" + p.path + "' has only " +
+                           plural(r.immersions.size(), "immersion") + " (numbered from 0)" +
+                           (r.complete ? "" : "; the search stopped early, raise --max-states"));
+  }
+  code = mesh_and_write(s, p, r, k, options, cl);
+  print_written(s);
+  return code;
+}
+
+int command_generate(Session& s, const CommandLine& cl) {
+  if (cl.has("--list")) {
+    if (!cl.positional.empty()) return usage_error(s.env(), "generate", "--list takes no name");
+    const auto list = generator_list();
+    std::size_t width = 0;
+    for (const auto& g : list) width = std::max(width, g.name.size() + 1 + g.params.size());
+    for (const auto& g : list) {
+      const std::string head = g.name + (g.params.empty() ? "" : " " + g.params);
+      s.out() << "  " << head << std::string(width - head.size() + 2, ' ') << g.description << '\n';
+    }
+    return kExitOk;
+  }
+  if (cl.positional.empty()) return usage_error(s.env(), "generate", "missing generator name");
+  const std::string& name = cl.positional[0];
+  const std::vector<std::string> params(cl.positional.begin() + 1, cl.positional.end());
+  Generated g;
+  const Clock::time_point start = Clock::now();
+  g = generate_named(name, params);
+  if (!g.error.empty()) return usage_error(s.env(), "generate", g.error);
+  s.enable_summary();
+  s.add_time("generate", seconds_since(start));
+  s.set_counts("generated '" + name + "': " + plural(g.curves.curves.size(), "curve") + ", " +
+               plural(g.curves.vertex_count(), "vertex", "vertices"));
+  const auto out = cl.value("-o");
+  if (!out) {
+    s.out() << dim2::format_curves_text(g.curves);
+    return kExitOk;
+  }
+  if (!s.write(*out, format_curves_for(*out, g.curves), "curve '" + name + "' (" + plural(g.curves.vertex_count(), "vertex", "vertices") + ")")) {
+    return kExitInternalError;
+  }
+  print_written(s);
+  return kExitOk;
+}
+
+/// `immerse` without arguments: the whole pipeline on the bundled curve, into ./out/.
+int command_default(Session& s) {
+  s.enable_summary();
+  const std::filesystem::path dir = "out";
+  const auto at = [&](const std::string& name) { return (dir / name).string(); };
+  const Generated g = s.timed("generate", [&] { return generate_named(kDefaultInput, {}); });
+  if (!g.error.empty()) {
+    s.err() << "immerse: internal error: the bundled curve '" << kDefaultInput << "' is not available: " << g.error << '\n';
+    return kExitInternalError;
+  }
+  s.out() << "immerse: no command given: running the main job on the bundled curve '" << kDefaultInput
+          << "' (see 'immerse --help')\n";
+  if (!s.write(at("input.txt"), dim2::format_curves_text(g.curves), "the input curve (text format)")) {
+    return kExitInternalError;
+  }
+  // Read the written file back: the job then runs exactly on what a user can re-run.
+  Prepared p;
+  p.path = at("input.txt");
+  if (const int code = prepare_curves(s, p); code != kExitOk) return code;
+  if (p.inversion) {
+    print_inversion(s, p);
+    return kExitNotImmersible;
+  }
+  dim2::SvgOptions svg_options;
+  svg_options.title = std::string("input '") + kDefaultInput + "': cells and winding numbers";
+  if (!s.write(at("input.svg"), dim2::format_complex_svg(*p.complex, svg_options),
+               "the input curve: directions, crossings, cells with winding numbers (SVG)") ||
+      !s.write(at("cells.json"), cells_report_json(p, s).dump(), "the cell complex (JSON)")) {
+    return kExitInternalError;
+  }
+  SearchRequest request;
+  request.max_immersions = 0;
+  const SearchResult r = run_search(s, *p.complex, request);
+  s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
+  print_search_result(s, p, r, request);
+  if (!s.write(at("immersions.json"), search_json(p, r, s).dump(), "every immersion: nodes, edges, owners (JSON)") ||
+      !write_immersion_svgs(s, p, r, dir.string())) {
+    return kExitInternalError;
+  }
+  int code = kExitNotImmersible;
+  if (r.status == ImmersionStatus::Immersible) {
+    CommandLine outputs;
+    outputs.values = {{"-o", at("mesh.mesh")}, {"--embedding", at("mesh.emb")}, {"--svg", at("mesh.svg")},
+                      {"--json", at("mesh.json")}};
+    code = mesh_and_write(s, p, r, 0, dim2::MeshOptions{}, outputs);
+  }
+  s.out() << "files written into " << dir.string() << "/:\n";
+  print_written(s);
+  return code;
+}
+
+int dispatch(Session& s, const std::vector<std::string>& args) {
+  const CliEnvironment& env = s.env();
+  if (args.empty()) return command_default(s);
+  const std::string& command = args[0];
+  if (command == "--help" || command == "-h" || command == "help") {
+    if (args.size() > 2) return usage_error(env, "", "'help' takes at most one command name");
+    if (args.size() == 2 && command == "help") {
+      const char* text = help_for(args[1]);
+      if (text == nullptr) return usage_error(env, "", "unknown command '" + args[1] + "'");
+      env.out << text;
+      return kExitOk;
+    }
+    if (args.size() == 2) return usage_error(env, "", "unexpected argument '" + args[1] + "'");
+    env.out << kMainHelp;
+    return kExitOk;
+  }
+  CommandLine cl;
+  if (command == "check") {
+    if (auto code = parse_or_exit(env, command, args, {}, 1, 1, cl)) return *code;
+    return command_check(s, cl);
+  }
+  if (command == "cells") {
+    if (auto code = parse_or_exit(env, command, args, {{"--json", true}}, 1, 1, cl)) return *code;
+    return command_cells(s, cl);
+  }
+  const std::vector<OptionSpec> search_specs = {
+      {"--all", false}, {"--max", true}, {"--max-states", true}, {"--time-limit", true}, {"--json", true}};
+  if (command == "immersions") {
+    std::vector<OptionSpec> specs = search_specs;
+    specs.push_back({"--svg", true});
+    if (auto code = parse_or_exit(env, command, args, specs, 1, 1, cl)) return *code;
+    return command_immersions(s, cl);
+  }
+  if (command == "mesh") {
+    const std::vector<OptionSpec> specs = {
+        {"--resolution", true}, {"--background", true}, {"--conforming", false}, {"--immersion", true},
+        {"--method", true},     {"-o", true},           {"--embedding", true},   {"--svg", true},
+        {"--json", true},       {"--max-states", true}, {"--time-limit", true}};
+    if (auto code = parse_or_exit(env, command, args, specs, 1, 1, cl)) return *code;
+    return command_mesh(s, cl);
+  }
+  if (command == "generate") {
+    if (auto code = parse_or_exit(env, command, args, {{"-o", true}, {"--list", false}}, 0,
+                                  std::numeric_limits<std::size_t>::max(), cl)) {
+      return *code;
+    }
+    return command_generate(s, cl);
+  }
+  if (!command.empty() && command[0] == '-') return usage_error(env, "", "unknown option '" + command + "'");
+  return usage_error(env, "", "unknown command '" + command + "'");
+}
+
+}  // namespace
+
+int run_cli(const std::vector<std::string>& args, const CliEnvironment& env) {
+  Session session(env);
+  int code = kExitInternalError;
+  try {
+    code = dispatch(session, args);
+  } catch (const InvariantError& e) {
+    env.err << "immerse: internal error (a bug, please report it): " << e.what() << '\n';
+    code = kExitInternalError;
+  } catch (const std::exception& e) {
+    env.err << "immerse: internal error: " << e.what() << '\n';
+    code = kExitInternalError;
+  }
+  session.print_summary();
+  return code;
+}
+
+}  // namespace imm

@@ -1,0 +1,366 @@
+// End-to-end tests of the `immerse` binary (DESIGN §3): exit codes 0/1/2/3/64, the messages of
+// every bad-input class, the report files and their agreement with the mesh files, the default
+// job, and that no temporary "*.tmp.*" file is ever left behind.
+//
+// Each test runs the real executable (IMM_IMMERSE_EXE) with popen in a fresh temporary directory.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+class CliTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(IMM_IMMERSE_EXE)) GTEST_SKIP() << "no immerse binary at " << IMM_IMMERSE_EXE;
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("imm_cli_test_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (dir_.empty()) return;
+    // DESIGN §3: never a half-written output, and no temporary file left behind.
+    for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
+      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos)
+          << "temporary file left behind: " << entry.path();
+    }
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+
+  /// Runs `immerse ARGS` in the test directory.
+  Outcome run(const std::string& args) const {
+    const std::string command = "cd '" + dir_.string() + "' && '" IMM_IMMERSE_EXE "' " + args + " 2>&1";
+    Outcome r;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (pipe == nullptr) return r;
+    char buffer[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
+    const int status = ::pclose(pipe);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+  }
+
+  void write(const std::string& name, const std::string& text) const {
+    fs::create_directories((dir_ / name).parent_path());
+    std::ofstream(dir_ / name, std::ios::binary) << text;
+  }
+  std::string read(const std::string& name) const {
+    std::ifstream in(dir_ / name, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
+
+  fs::path dir_;
+};
+
+#define EXPECT_CONTAINS(text, piece) \
+  EXPECT_NE((text).find(piece), std::string::npos) << "expected '" << (piece) << "' in:\n" << (text)
+
+/// Points of a parametric curve, sampled off t = 0 and rounded to integers, as text.
+template <class F>
+std::string sampled_curve(int n, F f) {
+  std::ostringstream os;
+  os.precision(17);
+  for (int k = 0; k < n; ++k) {
+    const double t = 2.0 * M_PI * (k + 0.5) / n;
+    const auto [x, y] = f(t);
+    os << std::round(x) << ' ' << std::round(y) << '\n';
+  }
+  return os.str();
+}
+
+/// z(t) = e^{it} + 1.3 e^{3it} + 0.6 e^{-5it}: 10 crossings, winding numbers up to 3 and
+/// exactly two immersions (the situation of the paper's Fig. 6).
+std::string two_immersion_curve() {
+  return sampled_curve(120, [](double t) {
+    return std::pair{1000.0 * (std::cos(t) + 1.3 * std::cos(3 * t) + 0.6 * std::cos(-5 * t)),
+                     1000.0 * (std::sin(t) + 1.3 * std::sin(3 * t) + 0.6 * std::sin(-5 * t))};
+  });
+}
+
+/// r = 100 (1 + 2 cos t): a limaçon with an inner loop (turning number 2), not immersible.
+std::string limacon_curve() {
+  return sampled_curve(24, [](double t) {
+    const double r = 100.0 * (1.0 + 2.0 * std::cos(t));
+    return std::pair{r * std::cos(t), r * std::sin(t)};
+  });
+}
+
+/// The integer after `"key": ` (first occurrence), or -1.
+long json_integer(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9]+)"))) return -1;
+  return std::stol(m[1]);
+}
+
+/// The count following a Medit keyword line ("Vertices\n146").
+long medit_count(const std::string& mesh, const std::string& keyword) {
+  std::smatch m;
+  if (!std::regex_search(mesh, m, std::regex("(^|\\n)" + keyword + "\\s+([0-9]+)"))) return -1;
+  return std::stol(m[2]);
+}
+
+// ---- invalid input: exit 2, every defect named ---------------------------------------------
+
+TEST_F(CliTest, EveryBadInputClassExitsWithTwoAndNamesTheDefect) {
+  struct Case {
+    const char* file;
+    std::string content;
+    std::vector<std::string> expected;
+  };
+  const std::vector<Case> cases = {
+      {"open.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n", {"not-closed", "open curve"}},
+      {"short.txt", "0 0\n1 0\n", {"too-short", "at least 3"}},
+      {"repeat.txt", "0 0\n1 0\n1 0\n0 1\n", {"duplicate-vertex", "vertices 1 and 2 are the same point (1, 0)"}},
+      {"nan.txt", "0 0\nnan 0\n1 1\n", {"non-finite", "vertex 1"}},
+      {"overlap.txt", "0 0\n10 0\n10 10\n0 10\n\n2 0\n8 0\n5 -5\n",
+       {"collinear-overlap", "segments 0 and 4 overlap collinearly from (2, 0) to (8, 0)"}},
+      {"touch.txt", "0 0\n10 0\n10 10\n0 10\n\n5 0\n7 -5\n3 -5\n",
+       {"touching", "vertex 4 at (5, 0) lies on segment 0"}},
+      {"triple.txt", "-10 -1\n10 1\n10 5\n\n-1 -10\n1 10\n-5 10\n\n-10 10\n10 -10\n10 -15\n",
+       {"triple-point", "segments 0, 3 and 6 all pass through (0, 0)"}},
+      {"empty.txt", "", {"empty", "no curve"}},
+      {"surface.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+       {"3D surfaces are not supported yet (issue 3)"}},
+      {"surface.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", {"3D surfaces are not supported yet (issue 3)"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.file);
+    write(c.file, c.content);
+    for (const char* command : {"check", "immersions"}) {
+      const Outcome r = run(std::string(command) + " " + c.file);
+      EXPECT_EQ(r.code, 2) << r.output;
+      EXPECT_CONTAINS(r.output, "invalid input");
+      for (const std::string& piece : c.expected) EXPECT_CONTAINS(r.output, piece);
+    }
+  }
+  const Outcome missing = run("check missing.txt");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_CONTAINS(missing.output, "cannot open 'missing.txt'");
+}
+
+TEST_F(CliTest, EveryDefectIsListedAndTheJsonSaysSo) {
+  // Two triangles hanging from the square at vertices on its bottom and top sides: two defects.
+  write("two.txt", "0 0\n10 0\n10 10\n0 10\n\n5 0\n7 -5\n3 -5\n\n5 10\n3 15\n7 15\n");
+  const Outcome r = run("cells two.txt --json two.json");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_CONTAINS(r.output, "2 defects");
+  EXPECT_CONTAINS(r.output, "vertex 4 at (5, 0) lies on segment 0");
+  EXPECT_CONTAINS(r.output, "vertex 7 at (5, 10) lies on segment 2");
+  const std::string json = read("two.json");
+  EXPECT_CONTAINS(json, "\"status\": \"invalid-input\"");
+  EXPECT_CONTAINS(json, "\"kind\": \"touching\"");
+}
+
+// ---- verdicts: exit 3 ----------------------------------------------------------------------------
+
+TEST_F(CliTest, LimaconIsNotImmersibleAndTheRuleIsNamed) {
+  write("limacon.txt", limacon_curve());
+  EXPECT_EQ(run("check limacon.txt").code, 0);
+  const Outcome r = run("immersions limacon.txt --all --json limacon.json");
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_CONTAINS(r.output, "not immersible");
+  EXPECT_TRUE(std::regex_search(r.output, std::regex("Rule [1-7]"))) << r.output;
+  const std::string json = read("limacon.json");
+  EXPECT_CONTAINS(json, "\"status\": \"not-immersible\"");
+  EXPECT_EQ(json_integer(json, "count"), 0);
+  EXPECT_GE(json_integer(json, "rule"), 1);
+  EXPECT_EQ(run("mesh limacon.txt -o limacon.mesh").code, 3);
+  EXPECT_FALSE(exists("limacon.mesh"));
+}
+
+TEST_F(CliTest, InvertedRegionExitsWithThree) {
+  // A figure-eight: winding numbers +1 and -1 (paper §3, Fig. 8).
+  write("eight.txt", sampled_curve(48, [](double t) {
+          return std::pair{1000.0 * std::sin(t), 500.0 * std::sin(2 * t)};
+        }));
+  const Outcome r = run("immersions eight.txt");
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_CONTAINS(r.output, "winding number -1");
+  EXPECT_CONTAINS(r.output, "invert");
+}
+
+TEST_F(CliTest, SearchBudgetExhaustionExitsWithThree) {
+  write("doodle.txt", two_immersion_curve());
+  const Outcome r = run("immersions doodle.txt --all --max-states 1");
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_CONTAINS(r.output, "search budget exhausted after 1 states");
+}
+
+// ---- results --------------------------------------------------------------------------------------
+
+TEST_F(CliTest, TwoImmersionsWithSvgAndJson) {
+  write("doodle.txt", two_immersion_curve());
+  const Outcome r = run("immersions doodle.txt --all --svg pictures --json doodle.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_CONTAINS(r.output, "2 immersions");
+  std::vector<std::string> svgs;
+  for (const auto& entry : fs::directory_iterator(dir_ / "pictures")) svgs.push_back(entry.path().filename().string());
+  std::sort(svgs.begin(), svgs.end());
+  EXPECT_EQ(svgs, (std::vector<std::string>{"immersion_0.svg", "immersion_1.svg"}));
+  EXPECT_CONTAINS(read("pictures/immersion_1.svg"), "</svg>");
+  const std::string json = read("doodle.json");
+  EXPECT_EQ(json_integer(json, "count"), 2);
+  EXPECT_CONTAINS(json, "\"status\": \"immersible\"");
+  EXPECT_CONTAINS(json, "\"complete\": true");
+  // Without --all the search stops at one and says so.
+  const Outcome one = run("immersions doodle.txt");
+  EXPECT_EQ(one.code, 0) << one.output;
+  EXPECT_CONTAINS(one.output, "1 immersion");
+  EXPECT_CONTAINS(one.output, "use --all");
+}
+
+TEST_F(CliTest, CellsJsonHasExactAreasAndCcwJunctions) {
+  write("doodle.txt", two_immersion_curve());
+  const Outcome r = run("cells doodle.txt --json cells.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string json = read("cells.json");
+  EXPECT_EQ(json_integer(json, "arcs"), 10);
+  EXPECT_EQ(json_integer(json, "max_winding"), 3);
+  EXPECT_TRUE(std::regex_search(json, std::regex("\"area\": \"-?[0-9]+(/[0-9]+)?\""))) << json.substr(0, 2000);
+  EXPECT_CONTAINS(json, "\"junction_patches_ccw\": [");
+  EXPECT_CONTAINS(json, "\"reversed\": false");
+}
+
+TEST_F(CliTest, ClockwiseInputIsReversedAndSaysSo) {
+  write("cw.txt", "0 0\n0 10\n10 10\n10 0\n");
+  const Outcome r = run("cells cw.txt --json cw.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_CONTAINS(r.output, "reversed");
+  EXPECT_CONTAINS(read("cw.json"), "\"reversed\": true");
+}
+
+TEST_F(CliTest, MeshFilesMatchTheJsonCounts) {
+  write("doodle.txt", two_immersion_curve());
+  const Outcome r = run(
+      "mesh doodle.txt --resolution 12 --immersion 1 -o m/doodle.mesh --embedding m/doodle.emb "
+      "--svg m/doodle.svg --json m/doodle.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string json = read("m/doodle.json");
+  const std::string mesh = read("m/doodle.mesh");
+  EXPECT_EQ(json_integer(json, "immersion"), 1);
+  const long triangles = json_integer(json, "output_triangles");
+  const long vertices = json_integer(json, "output_vertices");
+  EXPECT_GT(triangles, 0);
+  EXPECT_EQ(medit_count(mesh, "Triangles"), triangles);
+  EXPECT_EQ(medit_count(mesh, "Vertices"), vertices);
+  EXPECT_CONTAINS(mesh, "Dimension 2");
+  // .emb: the number of input vertices, then one line per input vertex.
+  std::istringstream emb(read("m/doodle.emb"));
+  long count = 0;
+  emb >> count;
+  EXPECT_EQ(count, 120);
+  EXPECT_EQ(json_integer(json, "input_vertices"), 120);
+  std::string line;
+  long lines = 0;
+  std::getline(emb, line);
+  while (std::getline(emb, line)) lines += line.empty() ? 0 : 1;
+  EXPECT_EQ(lines, 120);
+  EXPECT_CONTAINS(read("m/doodle.svg"), "</svg>");
+  // The one-line timing summary, always on stderr.
+  EXPECT_TRUE(std::regex_search(r.output, std::regex("immerse: .*\\| read [0-9.]+ ms, complex .*search .*mesh ")))
+      << r.output;
+}
+
+// ---- command line ---------------------------------------------------------------------------------
+
+TEST_F(CliTest, UsageErrorsExitWith64) {
+  write("doodle.txt", two_immersion_curve());
+  const std::vector<std::string> bad = {
+      "frobnicate",
+      "--frobnicate",
+      "check",
+      "check a.txt b.txt",
+      "cells doodle.txt --frob",
+      "cells doodle.txt --json",
+      "immersions doodle.txt --max 0",
+      "immersions doodle.txt --max two",
+      "immersions doodle.txt --all --max 2",
+      "immersions doodle.txt --time-limit -1",
+      "mesh doodle.txt --resolution 0",
+      "mesh doodle.txt --resolution 10 --background b.mesh",
+      "mesh doodle.txt --immersion -1",
+      "mesh doodle.txt --immersion 2",  // the curve has immersions 0 and 1 only
+      "mesh doodle.txt --method csg",
+      "generate",
+      "generate no-such-curve",
+  };
+  for (const std::string& args : bad) {
+    const Outcome r = run(args);
+    EXPECT_EQ(r.code, 64) << args << "\n" << r.output;
+    EXPECT_CONTAINS(r.output, "--help");
+  }
+  const Outcome help = run("--help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_CONTAINS(help.output, "exit codes");
+  EXPECT_CONTAINS(help.output, "64");
+  for (const char* command : {"check", "cells", "immersions", "mesh", "generate"}) {
+    const Outcome r = run(std::string(command) + " --help");
+    EXPECT_EQ(r.code, 0) << command;
+    EXPECT_CONTAINS(r.output, std::string("usage: immerse ") + command);
+  }
+}
+
+TEST_F(CliTest, GenerateListsAndWritesCurves) {
+  const Outcome list = run("generate --list");
+  ASSERT_EQ(list.code, 0) << list.output;
+  EXPECT_CONTAINS(list.output, "convex");
+  const Outcome convex = run("generate convex -o shapes/convex.txt");
+  ASSERT_EQ(convex.code, 0) << convex.output;
+  const Outcome check = run("check shapes/convex.txt");
+  EXPECT_EQ(check.code, 0) << check.output;
+  EXPECT_CONTAINS(check.output, "valid");
+}
+
+TEST_F(CliTest, UnwritableOutputExitsWithOneAndLeavesNothing) {
+  write("doodle.txt", two_immersion_curve());
+  write("blocker", "a file where a directory is expected\n");
+  fs::create_directories(dir_ / "a_directory");
+  const Outcome into_file = run("cells doodle.txt --json blocker/cells.json");
+  EXPECT_EQ(into_file.code, 1) << into_file.output;
+  const Outcome onto_directory = run("cells doodle.txt --json a_directory");
+  EXPECT_EQ(onto_directory.code, 1) << onto_directory.output;
+  EXPECT_TRUE(fs::is_directory(dir_ / "a_directory"));
+  // TearDown checks that no "*.tmp.*" file was left.
+}
+
+TEST_F(CliTest, DefaultJobWritesTheOutDirectory) {
+  const Outcome r = run("");
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* name : {"input.txt", "input.svg", "cells.json", "immersions.json", "immersion_0.svg",
+                           "mesh.mesh", "mesh.emb", "mesh.svg", "mesh.json"}) {
+    SCOPED_TRACE(name);
+    EXPECT_TRUE(exists(std::string("out/") + name));
+    EXPECT_CONTAINS(r.output, std::string("out/") + name);
+  }
+  // The bundled curve has several immersions, each drawn.
+  const std::string json = read("out/immersions.json");
+  const long count = json_integer(json, "count");
+  EXPECT_GE(count, 2);
+  for (long k = 0; k < count; ++k) EXPECT_TRUE(exists("out/immersion_" + std::to_string(k) + ".svg")) << k;
+  EXPECT_EQ(medit_count(read("out/mesh.mesh"), "Triangles"), json_integer(read("out/mesh.json"), "output_triangles"));
+  EXPECT_CONTAINS(r.output, "| generate ");
+}
+
+}  // namespace
