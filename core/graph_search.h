@@ -48,6 +48,7 @@ struct SearchStats {
   std::size_t branches = 0;    ///< decisions with two or more alternatives
   std::size_t dead_ends = 0;   ///< states refuted by propagation
   std::size_t duplicates = 0;  ///< complete graphs dropped as isomorphic to one already found
+  std::size_t probes = 0;      ///< trial propagations of branch options (included in `states`)
   std::size_t groups = 0;      ///< independent subproblems (cells linked by patches and arcs)
   double seconds = 0.0;
 };

@@ -14,12 +14,33 @@
 //    every declined slot without an edge. The variable with the fewest options is decided next
 //    (ties: lowest patch id, owner before partners, lowest node). Alternatives are pushed on an
 //    explicit stack as copies of the state, so a state is copied only at a real branch point;
+//  - trial connections (Algorithm 1, "connectNodes"; failed-literal probing): at a real branch
+//    point (two or more options left after the symmetry reduction below), every option of the
+//    chosen variable is first tried with full propagation on a scratch copy (each trial counts
+//    as a state, SearchStats::probes), and so are the options of a few candidates more: the
+//    *duals* of partner(n, q), i.e. partner(m, q) for every option m that declines q without an
+//    edge, and up to max_ties_ other variables with the same option count. Refuted options are
+//    dropped. A candidate with no surviving option refutes the state; one with a single
+//    survivor is made at once, without branching; a refuted owner option n of owner(q) is
+//    recorded as "n declines q". Otherwise the search branches on the candidate with the
+//    fewest survivors and continues with the first one's already propagated state. Without
+//    trials, a wrong option is refuted only deep in its subtree: on deep overlaps the search
+//    thrashed (dead ends ~ branches) and found nothing in 20 000 states where trials need ~1 000;
 //  - symmetry: two copies of a cell that own nothing, have no edge and have identical slots are
 //    interchangeable, so only the first of them is offered as an option (this replaces the
 //    paper's "pick any node a, make it own any B-patch p" seed and extends it to every component,
 //    §6.2: a new component is started by an owner(q) decision, never greedily). At a real branch
 //    point, options whose partial components have equal breadth-first codes are exchanged by an
-//    automorphism of the state and are also offered once;
+//    automorphism of the state and are also offered once. That automorphism must fix the
+//    declined node n of partner(n, q), so it cannot see a symmetry between n and another copy n'
+//    of its cell, which is common: two copies whose partial sheets are still interchangeable
+//    (the same code) must each be glued to one of two distinct, non-interchangeable copies m1,
+//    m2 across q. Branching on n then yields n–m1 and n–m2, whose completions are isomorphic
+//    (swap n and n'): `--all` enumerated 2^k labelled copies of one immersion (6073 of 6077
+//    branches ended in duplicates on 256 sparse disks). The dual partner(m1, q) has options n
+//    and n', which the code comparison identifies: a single option, made without branching.
+//    Symmetries that no partial state shows remain possible, so duplicates are still dropped at
+//    acceptance (below); none were left on the benchmark families;
 //  - acceptance: a state complete on its group is checked against every rule again
 //    (check_all_rules), then de-duplicated by its canonical form.
 #pragma once
@@ -373,22 +394,131 @@ class ImmersionSearch {
         have_current = false;
         continue;
       }
-      if (var.options.size() > 1) {
+      if (var.options.size() == 1) {
+        // A decision without alternatives (the other options are symmetric to this one).
+        const Outcome o = apply(current, Decision{var.is_owner, var.patch, var.node, var.options[0]}, depth, out);
+        if (o == Outcome::Budget) break;
+        have_current = o == Outcome::Ok;
+        continue;
+      }
+      // A branch point: trial connections first (see the file comment).
+      const Trial t = try_options(current, group, var, depth, out);
+      if (t == Trial::Budget) break;
+      if (t == Trial::Dead) {
+        have_current = false;
+      } else if (t == Trial::Branch) {
         ++stats_.branches;
         ++depth;
         for (std::size_t i = var.options.size() - 1; i >= 1; --i) {
           stack.push_back(Frame{current, Decision{var.is_owner, var.patch, var.node, var.options[i]}, depth});
         }
+        std::swap(current, best_first_);
       }
-      const Outcome o = apply(current, Decision{var.is_owner, var.patch, var.node, var.options[0]}, depth, out);
-      if (o == Outcome::Budget) break;
-      have_current = o == Outcome::Ok;
+      // Trial::Single and Trial::Forced have already updated `current`.
     }
     return out;
   }
 
+  enum class Trial {
+    Branch,  ///< `var` keeps >= 2 surviving options; best_first_ holds the first one, propagated
+    Single,  ///< one option survived and was made: `current` is its propagated state
+    Forced,  ///< failed owner trials became declines, propagated into `current`
+    Dead,    ///< no option of some candidate survived: the state is refuted
+    Budget,
+  };
+
+  /// Trial connections (paper Algorithm 1, "connectNodes"): every option of `var`, and of the
+  /// dual partner variables (see partner_duals), is applied with full propagation on a scratch
+  /// copy; refuted options are dropped. A candidate left with no option refutes `st`, one left
+  /// with a single option is made at once without branching, and a refuted owner option n of
+  /// owner(q) means that n declines q in every completion, which is recorded in `st`. Otherwise
+  /// `var` becomes the candidate with the fewest surviving options.
+  Trial try_options(SearchState& st, int group, Variable& var, int depth, GroupSolutions& out) {
+    candidates_.assign(1, var);
+    if (!var.is_owner) partner_duals(st, var, candidates_);
+    for (Variable& t : ties_) {
+      fill_options(st, t);
+      candidates_.push_back(std::move(t));
+    }
+    std::size_t best = 0, best_survivors = std::numeric_limits<std::size_t>::max();
+    std::vector<NodeId> survivors, refuted;
+    for (std::size_t c = 0; c < candidates_.size(); ++c) {
+      Variable& cand = candidates_[c];
+      if (c > 0 && cand.options.size() > 1) drop_symmetric_options(st, cand);
+      if (cand.options.size() >= best_survivors) continue;  // cannot do better than `best`
+      survivors.clear();
+      refuted.clear();
+      for (NodeId o : cand.options) {
+        scratch_.slot.assign(st.slot.begin(), st.slot.end());
+        scratch_.reason.assign(st.reason.begin(), st.reason.end());
+        scratch_.owner = st.owner;
+        ++stats_.probes;
+        const Outcome r = apply(scratch_, Decision{cand.is_owner, cand.patch, cand.node, o}, depth + 1, out);
+        if (r == Outcome::Budget) return Trial::Budget;
+        if (r == Outcome::Conflict) {
+          refuted.push_back(o);
+          continue;
+        }
+        if (survivors.empty()) std::swap(first_, scratch_);
+        survivors.push_back(o);
+      }
+      if (survivors.empty()) return Trial::Dead;
+      if (survivors.size() == 1) {
+        std::swap(st, first_);
+        return Trial::Single;
+      }
+      if (cand.is_owner && !refuted.empty()) {
+        const Outcome r = decline_all(st, cand.patch, refuted, depth, out);
+        if (r == Outcome::Budget) return Trial::Budget;
+        return r == Outcome::Ok ? Trial::Forced : Trial::Dead;
+      }
+      if (survivors.size() < best_survivors) {
+        best = c;
+        best_survivors = survivors.size();
+        cand.options = survivors;
+        std::swap(best_first_, first_);
+      }
+    }
+    var = std::move(candidates_[best]);
+    return Trial::Branch;
+  }
+
+  /// The duals of partner(n, q): partner(m, q) for every option m of n that declines q and has
+  /// no edge across it yet. Their options are the copies of n's cell, so a symmetry between n and
+  /// another copy of its cell (which partner(n, q) cannot see: it fixes n) reduces them.
+  void partner_duals(const SearchState& st, const Variable& var, std::vector<Variable>& out) {
+    const CellId side = ctx_.layout.cell(var.node);
+    for (NodeId m : var.options) {
+      if (st.slot[ctx_.slot(m, var.patch)] != kDeclined) continue;
+      Variable dual{false, var.patch, m, {}};
+      partner_options(st, var.patch, side, &dual.options);
+      out.push_back(std::move(dual));
+    }
+  }
+
+  /// Records that every node of `nodes` declines p (each was refuted as its owner) and
+  /// propagates. Counts one state.
+  Outcome decline_all(SearchState& st, PatchId p, const std::vector<NodeId>& nodes, int depth,
+                      GroupSolutions& out) {
+    return run_step(st, depth, out, [&](StateEditor& ed) {
+      for (NodeId n : nodes) {
+        if (!ed.decline(n, p, Reason{0, -1})) return false;
+      }
+      return true;
+    });
+  }
+
   /// Applies one decision and propagates. Counts one state.
   Outcome apply(SearchState& st, const Decision& d, int depth, GroupSolutions& out) {
+    return run_step(st, depth, out, [&](StateEditor& ed) {
+      const Reason why{0, -1};
+      return d.is_owner ? ed.own(d.option, d.patch, why) : ed.connect(d.node, d.option, d.patch, why);
+    });
+  }
+
+  /// Budget check, progress, then `edit` and propagation to a fixpoint. Counts one state.
+  template <class Edit>
+  Outcome run_step(SearchState& st, int depth, GroupSolutions& out, Edit&& edit) {
     if (options_.max_states != 0 && stats_.states >= options_.max_states) {
       budget_hit_ = true;
       budget_reason_ = "max_states = " + std::to_string(options_.max_states);
@@ -411,9 +541,7 @@ class ImmersionSearch {
     }
     ++stats_.states;
     StateEditor ed(ctx_, st, worklist_);
-    const Reason why{0, -1};
-    const bool ok = d.is_owner ? ed.own(d.option, d.patch, why) : ed.connect(d.node, d.option, d.patch, why);
-    if (ok && propagate_to_fixpoint(ed, worklist_)) return Outcome::Ok;
+    if (edit(ed) && propagate_to_fixpoint(ed, worklist_)) return Outcome::Ok;
     worklist_.clear();
     record_dead_end(*ed.take_conflict(), depth, out);
     return Outcome::Conflict;
@@ -479,42 +607,51 @@ class ImmersionSearch {
 
   /// The open variable of the group with the fewest options. @return false when the group is
   /// complete.
+  /// The copies of p's inner cell that may still own p, one per class of free identical copies
+  /// (compute_representatives). @return their number; appended to `out` when given.
+  std::size_t owner_options(const SearchState& st, PatchId p, std::vector<NodeId>* out) const {
+    std::size_t count = 0;
+    const CellId c = ctx_.inner[p];
+    for (int n = ctx_.first_node(c).value(); n < ctx_.node_end(c); ++n) {
+      if (st.slot[ctx_.slot(NodeId(n), p)] == kUndecided && representative_[n] == NodeId(n)) {
+        ++count;
+        if (out) out->push_back(NodeId(n));
+      }
+    }
+    return count;
+  }
+
+  /// The copies of `other` (a side of p) that may still be glued across p, one per class of free
+  /// identical copies. @return their number; appended to `out` when given.
+  std::size_t partner_options(const SearchState& st, PatchId p, CellId other, std::vector<NodeId>* out) const {
+    std::size_t count = 0;
+    if (!other.is_valid()) return count;
+    for (int m = ctx_.first_node(other).value(); m < ctx_.node_end(other); ++m) {
+      const std::int32_t v = st.slot[ctx_.slot(NodeId(m), p)];
+      if ((v == kUndecided || v == kDeclined) && representative_[m] == NodeId(m)) {
+        ++count;
+        if (out) out->push_back(NodeId(m));
+      }
+    }
+    return count;
+  }
+
   bool select_variable(const SearchState& st, int group, Variable& best) {
     compute_representatives(st, group);
     std::size_t best_count = std::numeric_limits<std::size_t>::max();
     const auto value = [&](NodeId n, PatchId p) { return st.slot[ctx_.slot(n, p)]; };
-    const auto owner_options = [&](PatchId p, std::vector<NodeId>* out) {
-      std::size_t count = 0;
-      const CellId c = ctx_.inner[p];
-      for (int n = ctx_.first_node(c).value(); n < ctx_.node_end(c); ++n) {
-        if (value(NodeId(n), p) == kUndecided && representative_[n] == NodeId(n)) {
-          ++count;
-          if (out) out->push_back(NodeId(n));
-        }
-      }
-      return count;
-    };
-    const auto partner_options = [&](PatchId p, CellId other, std::vector<NodeId>* out) {
-      std::size_t count = 0;
-      if (!other.is_valid()) return count;
-      for (int m = ctx_.first_node(other).value(); m < ctx_.node_end(other); ++m) {
-        const std::int32_t v = value(NodeId(m), p);
-        if ((v == kUndecided || v == kDeclined) && representative_[m] == NodeId(m)) {
-          ++count;
-          if (out) out->push_back(NodeId(m));
-        }
-      }
-      return count;
-    };
     bool found = false;
     Variable choice;
     for (PatchId p : ctx_.group_patches[group]) {
       if (!st.owner[p].is_valid()) {
-        const std::size_t count = owner_options(p, nullptr);
+        const std::size_t count = owner_options(st, p, nullptr);
         if (count < best_count) {
           best_count = count;
           choice = Variable{true, p, NodeId(), {}};
           found = true;
+          ties_.clear();
+        } else if (count == best_count && ties_.size() < max_ties_) {
+          ties_.push_back(Variable{true, p, NodeId(), {}});
         }
       }
       for (CellId side : {ctx_.inner[p], ctx_.outer[p]}) {
@@ -522,11 +659,14 @@ class ImmersionSearch {
         const CellId other = side == ctx_.inner[p] ? ctx_.outer[p] : ctx_.inner[p];
         for (int n = ctx_.first_node(side).value(); n < ctx_.node_end(side) && best_count > 1; ++n) {
           if (value(NodeId(n), p) != kDeclined) continue;
-          const std::size_t count = partner_options(p, other, nullptr);
+          const std::size_t count = partner_options(st, p, other, nullptr);
           if (count < best_count) {
             best_count = count;
             choice = Variable{false, p, NodeId(n), {}};
             found = true;
+            ties_.clear();
+          } else if (count == best_count && ties_.size() < max_ties_) {
+            ties_.push_back(Variable{false, p, NodeId(n), {}});
           }
         }
       }
@@ -534,16 +674,20 @@ class ImmersionSearch {
     }
     if (!found) return false;
     best = std::move(choice);
-    best.options.clear();
-    if (best.is_owner) {
-      owner_options(best.patch, &best.options);
-    } else {
-      const CellId side = ctx_.layout.cell(best.node);
-      const CellId other = side == ctx_.inner[best.patch] ? ctx_.outer[best.patch] : ctx_.inner[best.patch];
-      partner_options(best.patch, other, &best.options);
-    }
+    fill_options(st, best);
     if (best.options.size() > 1) drop_symmetric_options(st, best);
     return true;
+  }
+
+  void fill_options(const SearchState& st, Variable& var) {
+    var.options.clear();
+    if (var.is_owner) {
+      owner_options(st, var.patch, &var.options);
+    } else {
+      const CellId side = ctx_.layout.cell(var.node);
+      const CellId other = side == ctx_.inner[var.patch] ? ctx_.outer[var.patch] : ctx_.inner[var.patch];
+      partner_options(st, var.patch, other, &var.options);
+    }
   }
 
   /// Breadth-first encoding of the partial component of `start` (edges = Connected slots): per
@@ -616,6 +760,11 @@ class ImmersionSearch {
   std::vector<std::int32_t> label_ = std::vector<std::int32_t>(ctx_.node_count(), -1);
   std::vector<NodeId> order_;
   std::vector<std::vector<std::int32_t>> kept_codes_;
+  std::vector<Variable> candidates_;
+  std::vector<Variable> ties_;
+  /// How many other variables with the fewest options try_options also tries.
+  static constexpr std::size_t max_ties_ = 4;     ///< try_options: the variable and its duals
+  SearchState scratch_, first_, best_first_;  ///< try_options: trial states (buffers reused)
   SearchStats stats_;
   std::unordered_set<std::string> group_forms_;
   std::size_t group_index_ = 0;

@@ -186,11 +186,16 @@ TYPED_TEST(Search, BudgetEndsWithSearchBudgetExhausted) {
   EXPECT_EQ(r.stats.states, 2u);
   EXPECT_NE(r.conflict.message.find("budget"), std::string::npos);
 
-  options.max_states = 3;  // enough for the first immersion, not for the second
+  // Enough for the first immersion, not for the second: the root, the owner of the ring's outer
+  // circle (its two copies are interchangeable: no branch), then two trial propagations, one per
+  // owner of the inner circle (both survive: a branch). Exploring the second alternative after
+  // the first immersion is one more state.
+  options.max_states = 4;
   const SearchResult partial = find_immersions(complex, options);
   EXPECT_EQ(partial.status, ImmersionStatus::Immersible);
   EXPECT_EQ(partial.immersions.size(), 1u);
   EXPECT_FALSE(partial.complete);
+  EXPECT_EQ(partial.stats.probes, 2u);
 }
 
 TYPED_TEST(Search, MaxImmersionsStopsEarly) {
