@@ -16,15 +16,23 @@
 //    times. Immersible by construction (the separate disks are an immersion); the smaller the
 //    pitch, the deeper the overlaps (max_w) and the harder the search. First immersion.
 //  - BM_Search2All/pitch/disks: the same inputs, every immersion (max_immersions = 0, `--all`).
+//  - BM_Search2Generated/<shape>/k: the paper's curves from dim2/generators.h with a known number
+//    of immersions, every immersion (max_immersions = 0): "doodle-chain K" (K two-lobed doodles
+//    joined by thin bands, 6K crossings, 2^K immersions) and "doodle K" (K(K + 1) crossings,
+//    Catalan(K) immersions). Budget kGeneratedBudget states.
+// `probes` counts the trial propagations of branch options at branch points (they are included in
+// `states`).
 // Every family runs under a budget of kStateBudget states: `complete` = 0 with immersions = 0
 // means the budget stopped the search before it found anything.
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <string>
 #include <utility>
 
 #include "bench/bench_inputs.h"
 #include "core/graph_search.h"
+#include "dim2/generators.h"
 
 namespace imm::bench {
 namespace {
@@ -35,6 +43,9 @@ constexpr std::size_t kDiskVertices = 24;
 /// State budget of every search family, so that one iteration stays within seconds. A run that
 /// reaches it reports complete = 0 (and immersible = 0 when it found nothing).
 constexpr std::size_t kStateBudget = 20'000;
+/// State budget of BM_Search2Generated: large enough that every size listed there finishes (the
+/// number of immersions, hence of states, is exponential in K by construction).
+constexpr std::size_t kGeneratedBudget = 2'000'000;
 
 void report_counters(benchmark::State& state, const BuiltInput& input, const SearchResult& result) {
   const CellComplex<2>& complex = input.complex->complex;
@@ -50,6 +61,7 @@ void report_counters(benchmark::State& state, const BuiltInput& input, const Sea
   state.counters["states"] = static_cast<double>(result.stats.states);
   state.counters["branches"] = static_cast<double>(result.stats.branches);
   state.counters["dead_ends"] = static_cast<double>(result.stats.dead_ends);
+  state.counters["probes"] = static_cast<double>(result.stats.probes);
   state.counters["duplicates"] = static_cast<double>(result.stats.duplicates);
   state.counters["groups"] = static_cast<double>(result.stats.groups);
   state.counters["immersions"] = static_cast<double>(result.immersions.size());
@@ -115,6 +127,25 @@ void BM_Search2All(benchmark::State& state) {
   run_search(state, input, options);
 }
 
+/// `name` with the single parameter K = range(0), built once (no seed: the shapes are fixed).
+BuiltInput generated_input(const std::string& name, long k) {
+  return first_valid(
+      0, 1,
+      [&](std::uint64_t) {
+        dim2::GenerateResult generated = dim2::generate(name, {std::to_string(k)});
+        return generated.ok() ? std::move(generated.curves) : dim2::CurveSet{};
+      },
+      [](const dim2::Complex2&) { return true; });
+}
+
+void BM_Search2Generated(benchmark::State& state, const char* name) {
+  const BuiltInput input = generated_input(name, static_cast<long>(state.range(0)));
+  SearchOptions options;
+  options.max_immersions = 0;
+  options.max_states = kGeneratedBudget;
+  run_search(state, input, options);
+}
+
 /// Sparse overlaps (pitch 110%) up to 256 disks; denser ones (90%, 70%) stop earlier because the
 /// search reaches its state budget there.
 void disk_sweep(benchmark::internal::Benchmark* family) {
@@ -133,6 +164,20 @@ BENCHMARK(BM_Search2Refute)
 
 BENCHMARK(BM_Search2First)->Apply(disk_sweep)->Unit(benchmark::kMillisecond)->MinTime(0.1);
 BENCHMARK(BM_Search2All)->Apply(disk_sweep)->Unit(benchmark::kMillisecond)->MinTime(0.1);
+
+/// doodle-chain K up to the largest K whose search stays under ~2 s per iteration on the machine
+/// of BENCHMARKS.md; doodle K = 2..6 (Catalan(K) = 2 .. 132 immersions).
+constexpr int kMaxChain = 13;
+BENCHMARK_CAPTURE(BM_Search2Generated, doodle_chain, "doodle-chain")
+    ->ArgName("k")
+    ->DenseRange(1, kMaxChain)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.1);
+BENCHMARK_CAPTURE(BM_Search2Generated, doodle, "doodle")
+    ->ArgName("k")
+    ->DenseRange(2, 6)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.1);
 
 }  // namespace
 }  // namespace imm::bench

@@ -84,11 +84,12 @@ def main(path):
             label = "/".join(r["name"].split("/")[1:]).replace("/min_time:0.100", "")
             per_state = 1e3 * ms(r, "cpu_time") / r["states"] if r["states"] else float("nan")
             rows.append([label, r["arcs"], r["cells"], r["nodes"], r["max_w"], r["states"],
-                         r["branches"], r["dead_ends"], r["duplicates"], r["immersions"],
+                         r["branches"], r.get("probes", float("nan")), r["dead_ends"],
+                         r["duplicates"], r["immersions"],
                          "yes" if r["complete"] else "no", ms(r, "real_time"), ms(r, "cpu_time"),
                          per_state])
         print(table(["input", "arcs", "cells", "nodes", "max w", "states", "branches",
-                     "dead ends", "duplicates", "immersions", "complete", "wall ms", "CPU ms",
+                     "probes", "dead ends", "duplicates", "immersions", "complete", "wall ms", "CPU ms",
                      "CPU us / state"], rows))
         # Exponents per input series (same leading argument), only over runs that finished
         # within the budget: a budget-limited run measures the budget, not the input.
