@@ -21,7 +21,8 @@ WriteStatus write_file_atomic(const std::string& path, std::string_view content)
   });
 }
 
-WriteStatus write_file_atomic(const std::string& path, const std::function<bool(std::ostream&)>& fill) {
+WriteStatus write_file_atomic(const std::string& path,
+                              const std::function<bool(std::ostream&)>& fill) {
   const std::string tmp = temporary_path(path);
   auto discard = [&]() {
     std::error_code ignored;

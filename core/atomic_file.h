@@ -29,7 +29,8 @@ WriteStatus write_file_atomic(const std::string& path, std::string_view content)
 /// Streams into `path` atomically: `fill` writes to a stream opened on the temporary file; it
 /// returns false (or throws) to abandon the write, which then removes the temporary file.
 /// Exceptions from `fill` are rethrown after the clean-up.
-WriteStatus write_file_atomic(const std::string& path, const std::function<bool(std::ostream&)>& fill);
+WriteStatus write_file_atomic(const std::string& path,
+                              const std::function<bool(std::ostream&)>& fill);
 
 /// Creates a directory and its parents when missing. @return the status (error when the path
 /// exists and is not a directory, or cannot be created).

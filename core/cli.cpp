@@ -34,15 +34,9 @@
 #include "core/report_json.h"
 #include "dim2/complex2.h"
 #include "dim2/curves.h"
+#include "dim2/generators.h"
 #include "dim2/mesh2.h"
 #include "dim2/svg.h"
-
-#if __has_include("dim2/generators.h")
-#include "dim2/generators.h"
-#define IMM_CLI_HAVE_GENERATORS 1
-#else
-#define IMM_CLI_HAVE_GENERATORS 0
-#endif
 
 namespace imm {
 namespace {
@@ -726,8 +720,6 @@ struct Generated {
   std::string error;  ///< non-empty: unknown name or bad parameters (usage error)
 };
 
-#if IMM_CLI_HAVE_GENERATORS
-
 std::vector<GeneratorEntry> generator_list() {
   std::vector<GeneratorEntry> out;
   for (const auto& g : dim2::curve_generators()) out.push_back({g.name, g.params, g.description});
@@ -739,113 +731,41 @@ Generated generate_named(const std::string& name, const std::vector<std::string>
 }
 constexpr const char* kDefaultInput = "fig6";
 
-#else
-
-// Built-in stand-ins until dim2/generators.h exists (see the report to the lead).
-constexpr double kPi = std::numbers::pi;
-
-std::optional<long long> integer_param(const std::vector<std::string>& params, std::size_t i, long long fallback,
-                                       long long low, long long high, std::string& error) {
-  if (i >= params.size()) return fallback;
-  auto v = parse_integer("parameter " + std::to_string(i + 1), params[i], low, high);
-  if (auto* e = std::get_if<UsageError>(&v)) {
-    error = e->message;
-    return std::nullopt;
-  }
-  return std::get<long long>(v);
-}
-
-dim2::Curve sampled(std::size_t n, const std::function<dim2::Point(double)>& f) {
-  dim2::Curve c;
-  for (std::size_t k = 0; k < n; ++k) {
-    const dim2::Point p = f(2.0 * kPi * (static_cast<double>(k) + 0.5) / static_cast<double>(n));
-    c.vertices.push_back({std::round(p.x), std::round(p.y)});
-  }
-  return c;
-}
-
-std::vector<GeneratorEntry> generator_list() {
-  return {
-      {"doodle", "[N=120]",
-       "z(t) = e^{it} + 1.3 e^{3it} + 0.6 e^{-5it} (x1000): 10 crossings, winding up to 3, two immersions"},
-      {"convex", "[N=12]", "a regular N-gon (one immersion)"},
-      {"limacon", "[N=24]", "limacon with an inner loop, r = 100 (1 + 2 cos t): turning number 2, not immersible"},
-      {"figure8", "[N=48]", "a figure-eight: winding numbers +1 and -1, inverts space"},
-      {"random", "N SEED", "a random star-shaped simple polygon with N vertices"},
-  };
-}
-
-Generated generate_named(const std::string& name, const std::vector<std::string>& params) {
-  Generated g;
-  const auto too_many = [&](std::size_t allowed) {
-    if (params.size() > allowed) g.error = "'" + name + "' takes at most " + plural(allowed, "parameter");
-    return !g.error.empty();
-  };
-  if (name == "doodle") {
-    if (too_many(1)) return g;
-    const auto n = integer_param(params, 0, 120, 60, 1'000'000, g.error);
-    if (!n) return g;
-    g.curves.curves.push_back(sampled(static_cast<std::size_t>(*n), [](double t) {
-      const double x = std::cos(t) + 1.3 * std::cos(3 * t) + 0.6 * std::cos(-5 * t);
-      const double y = std::sin(t) + 1.3 * std::sin(3 * t) + 0.6 * std::sin(-5 * t);
-      return dim2::Point{1000.0 * x, 1000.0 * y};
-    }));
-  } else if (name == "convex") {
-    if (too_many(1)) return g;
-    const auto n = integer_param(params, 0, 12, 3, 1'000'000, g.error);
-    if (!n) return g;
-    dim2::Curve c;
-    for (long long k = 0; k < *n; ++k) {
-      const double t = 2.0 * kPi * static_cast<double>(k) / static_cast<double>(*n);
-      c.vertices.push_back({1e6 * std::cos(t), 1e6 * std::sin(t)});
+/// The curves as an SVG that the SVG reader reads back exactly: one <polygon> per curve, in
+/// input coordinates (no y flip), full precision.
+std::string format_curves_svg_input(const dim2::CurveSet& curves) {
+  double min_x = 0.0, min_y = 0.0, max_x = 1.0, max_y = 1.0;
+  bool first = true;
+  for (const dim2::Curve& c : curves.curves) {
+    for (const dim2::Point& p : c.vertices) {
+      min_x = first ? p.x : std::min(min_x, p.x);
+      max_x = first ? p.x : std::max(max_x, p.x);
+      min_y = first ? p.y : std::min(min_y, p.y);
+      max_y = first ? p.y : std::max(max_y, p.y);
+      first = false;
     }
-    g.curves.curves.push_back(std::move(c));
-  } else if (name == "limacon") {
-    if (too_many(1)) return g;
-    const auto n = integer_param(params, 0, 24, 12, 1'000'000, g.error);
-    if (!n) return g;
-    g.curves.curves.push_back(sampled(static_cast<std::size_t>(*n), [](double t) {
-      const double r = 100.0 * (1.0 + 2.0 * std::cos(t));
-      return dim2::Point{r * std::cos(t), r * std::sin(t)};
-    }));
-  } else if (name == "figure8") {
-    if (too_many(1)) return g;
-    const auto n = integer_param(params, 0, 48, 8, 1'000'000, g.error);
-    if (!n) return g;
-    g.curves.curves.push_back(sampled(static_cast<std::size_t>(*n), [](double t) {
-      return dim2::Point{1000.0 * std::sin(t), 500.0 * std::sin(2 * t)};
-    }));
-  } else if (name == "random") {
-    if (params.size() != 2) {
-      g.error = "'random' takes two parameters: N SEED";
-      return g;
-    }
-    const auto n = integer_param(params, 0, 0, 3, 1'000'000, g.error);
-    if (!n) return g;
-    const auto seed = integer_param(params, 1, 0, 0, std::numeric_limits<long long>::max(), g.error);
-    if (!seed) return g;
-    std::mt19937_64 rng(static_cast<std::uint64_t>(*seed));
-    std::vector<double> angles;
-    for (long long k = 0; k < *n; ++k) angles.push_back(std::uniform_real_distribution<double>(0, 2 * kPi)(rng));
-    std::sort(angles.begin(), angles.end());
-    dim2::Curve c;
-    for (double a : angles) {
-      const double r = std::uniform_real_distribution<double>(300.0, 1000.0)(rng);
-      const dim2::Point p{std::round(r * std::cos(a)), std::round(r * std::sin(a))};
-      if (c.vertices.empty() || !(c.vertices.back() == p)) c.vertices.push_back(p);
-    }
-    g.curves.curves.push_back(std::move(c));
-  } else {
-    g.error = "unknown generator '" + name + "' (see 'immerse generate --list')";
   }
-  return g;
+  const double margin = 0.02 * std::max({max_x - min_x, max_y - min_y, 1.0});
+  std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"" +
+                    dim2::format_number(min_x - margin) + " " + dim2::format_number(min_y - margin) + " " +
+                    dim2::format_number(max_x - min_x + 2 * margin) + " " +
+                    dim2::format_number(max_y - min_y + 2 * margin) + "\">\n";
+  for (const dim2::Curve& c : curves.curves) {
+    out += "<polygon fill=\"none\" stroke=\"black\" vector-effect=\"non-scaling-stroke\" points=\"";
+    for (std::size_t i = 0; i < c.vertices.size(); ++i) {
+      if (i > 0) out += ' ';
+      out += dim2::format_number(c.vertices[i].x) + "," + dim2::format_number(c.vertices[i].y);
+    }
+    out += "\"/>\n";
+  }
+  out += "</svg>\n";
+  return out;
 }
-constexpr const char* kDefaultInput = "doodle";
 
-#endif
-
-/// The curves in the format chosen by the output extension (.obj: v/l lines; else text).
+/// The curves in the format chosen by the output extension (.obj: v/l lines; .svg: polygons;
+/// else text).
 std::string format_curves_for(const std::string& path, const dim2::CurveSet& curves) {
+  if (extension_of(path) == ".svg") return format_curves_svg_input(curves);
   if (extension_of(path) != ".obj") return dim2::format_curves_text(curves);
   std::string out = "# immerse generate: one 'l' element per closed curve\n";
   std::size_t base = 1;

@@ -96,7 +96,8 @@ void Json::write(std::string& out, int indent) const {
         return;
       }
       bool scalars = true;
-      for (const Json& e : elements_) scalars = scalars && e.type_ != Type::Array && e.type_ != Type::Object;
+      for (const Json& e : elements_)
+        scalars = scalars && e.type_ != Type::Array && e.type_ != Type::Object;
       if (scalars) {
         // One line, wrapped when it gets long (continuation lines indented one level deeper).
         out += '[';

@@ -28,8 +28,8 @@ class Json {
   Json(std::nullptr_t) {}
   Json(bool value) : type_(Type::Bool), text_(value ? "true" : "false") {}
   template <std::integral T>
-    requires(!std::same_as<T, bool>)
-  Json(T value) : type_(Type::Number), text_(std::to_string(value)) {}
+  requires(!std::same_as<T, bool>) Json(T value)
+      : type_(Type::Number), text_(std::to_string(value)) {}
   /// A non-finite double becomes null.
   Json(double number);
   Json(const char* text) : type_(Type::String), text_(text) {}

@@ -70,7 +70,8 @@ std::vector<Point> band_boundary(const std::vector<CorePose>& core, double width
 }
 
 /// Samples a parametric core on [t0, t1] at `steps` + 1 points (both ends included).
-std::vector<CorePose> sample_core(const std::function<CorePose(double)>& curve, double t0, double t1, int steps) {
+std::vector<CorePose> sample_core(const std::function<CorePose(double)>& curve, double t0,
+                                  double t1, int steps) {
   std::vector<CorePose> out;
   for (int i = 0; i <= steps; ++i) out.push_back(curve(t0 + (t1 - t0) * i / steps));
   return out;
@@ -91,8 +92,9 @@ struct SeifertJoin {
 /// Traces the curves obtained by joining the circles: at every join the strand arriving on one
 /// circle leaves on the other. The strands are cut `gap` radians before and after the join
 /// angle; every full turn of a circle is sampled with `samples_per_turn` points.
-CurveSet trace_seifert(const std::vector<SeifertCircle>& circles, const std::vector<SeifertJoin>& joins,
-                       int samples_per_turn, double scale, double gap) {
+CurveSet trace_seifert(const std::vector<SeifertCircle>& circles,
+                       const std::vector<SeifertJoin>& joins, int samples_per_turn, double scale,
+                       double gap) {
   struct Event {
     double angle;
     int join;
@@ -119,7 +121,8 @@ CurveSet trace_seifert(const std::vector<SeifertCircle>& circles, const std::vec
     const int o = circle.orientation;
     std::vector<Event>& e = events[c];
     IMM_ASSERT(!e.empty(), "a Seifert circle without join");
-    std::sort(e.begin(), e.end(), [&](const Event& a, const Event& b) { return o * a.angle < o * b.angle; });
+    std::sort(e.begin(), e.end(),
+              [&](const Event& a, const Event& b) { return o * a.angle < o * b.angle; });
     for (std::size_t i = 0; i < e.size(); ++i) {
       const Event& from = e[i];
       const Event& to = e[(i + 1) % e.size()];
@@ -134,7 +137,8 @@ CurveSet trace_seifert(const std::vector<SeifertCircle>& circles, const std::vec
       Arc& arc = arcs[from.join][from.side];
       for (int s = 0; s <= k; ++s) {
         const double a = a0 + (a1 - a0) * s / k;
-        arc.points.push_back({circle.cx + circle.radius * std::cos(a), circle.cy + circle.radius * std::sin(a)});
+        arc.points.push_back(
+            {circle.cx + circle.radius * std::cos(a), circle.cy + circle.radius * std::sin(a)});
       }
       arc.end_join = to.join;
       arc.end_side = to.side;
@@ -160,9 +164,9 @@ CurveSet trace_seifert(const std::vector<SeifertCircle>& circles, const std::vec
   return out;
 }
 
-constexpr int kSeifertSamples = 96;     ///< samples per full turn of a Seifert circle
-constexpr double kSeifertScale = 100.0; ///< integer grid: 1/100 of the circle units
-constexpr double kSeifertGap = 0.06;    ///< strand cut around a join, radians
+constexpr int kSeifertSamples = 96;      ///< samples per full turn of a Seifert circle
+constexpr double kSeifertScale = 100.0;  ///< integer grid: 1/100 of the circle units
+constexpr double kSeifertGap = 0.06;     ///< strand cut around a join, radians
 
 /// The strand cut around a join of doodle(K): 0.06 rad, smaller for many lobes so that the cuts
 /// of neighbouring joins (0.125 sector apart on the innermost circle) never overlap.
@@ -173,7 +177,8 @@ double doodle_scale(int lobes) { return kSeifertScale * std::max(1.0, lobes / 6.
 
 /// The circles and joins of doodle(K), centred at (cx, 0), appended to the given lists.
 /// @return the index of the outer circle.
-int add_doodle(std::vector<SeifertCircle>& circles, std::vector<SeifertJoin>& joins, int lobes, double cx) {
+int add_doodle(std::vector<SeifertCircle>& circles, std::vector<SeifertJoin>& joins, int lobes,
+               double cx) {
   const int k = lobes;
   const int first = static_cast<int>(circles.size());
   std::vector<double> radius(k + 1);
@@ -203,7 +208,6 @@ int add_doodle(std::vector<SeifertCircle>& circles, std::vector<SeifertJoin>& jo
   }
   return first;
 }
-
 
 // ---- exact predicates for check_generic ---------------------------------------------------------
 
@@ -239,7 +243,8 @@ GenericityReport check_generic(const CurveSet& curves) {
                        (static_cast<__int128>(b.y) - ay) * (static_cast<__int128>(c.x) - ax);
       return sign_of(det);
     }
-    const Rational det = (Rational(b.x) - a.x) * (Rational(c.y) - a.y) - (Rational(b.y) - a.y) * (Rational(c.x) - a.x);
+    const Rational det = (Rational(b.x) - a.x) * (Rational(c.y) - a.y) -
+                         (Rational(b.y) - a.y) * (Rational(c.x) - a.x);
     return sgn(det);
   };
   std::vector<ExactSegment> segments;
@@ -247,7 +252,8 @@ GenericityReport check_generic(const CurveSet& curves) {
   for (const Curve& c : curves.curves) {
     const std::size_t n = c.vertices.size();
     for (std::size_t i = 0; i < n; ++i) {
-      segments.push_back({c.vertices[i], c.vertices[(i + 1) % n], offset + i, offset + (i + 1) % n});
+      segments.push_back(
+          {c.vertices[i], c.vertices[(i + 1) % n], offset + i, offset + (i + 1) % n});
       if (c.vertices[i] == c.vertices[(i + 1) % n] && report.generic) {
         report.generic = false;
         report.problem = "zero-length segment at vertex " + std::to_string(offset + i);
@@ -295,14 +301,16 @@ GenericityReport check_generic(const CurveSet& curves) {
   std::vector<std::size_t> order(segments.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   auto x_low = [&](std::size_t k) { return std::min(segments[k].a.x, segments[k].b.x); };
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return x_low(a) < x_low(b); });
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return x_low(a) < x_low(b); });
   for (std::size_t oi = 0; oi < order.size(); ++oi) {
     const double sweep_end = std::max(segments[order[oi]].a.x, segments[order[oi]].b.x);
     for (std::size_t oj = oi + 1; oj < order.size() && x_low(order[oj]) <= sweep_end; ++oj) {
       const std::size_t i = std::min(order[oi], order[oj]), j = std::max(order[oi], order[oj]);
       const ExactSegment& s = segments[i];
       const ExactSegment& t = segments[j];
-      if (std::max(t.a.y, t.b.y) < std::min(s.a.y, s.b.y) || std::min(t.a.y, t.b.y) > std::max(s.a.y, s.b.y)) {
+      if (std::max(t.a.y, t.b.y) < std::min(s.a.y, s.b.y) ||
+          std::min(t.a.y, t.b.y) > std::max(s.a.y, s.b.y)) {
         continue;
       }
       const bool adjacent = s.second_vertex == t.first_vertex || t.second_vertex == s.first_vertex;
@@ -310,7 +318,8 @@ GenericityReport check_generic(const CurveSet& curves) {
       if (adjacent) {
         // Neighbours share one vertex; they must not fold back onto each other. (A triangle's
         // segments are all pairwise adjacent; the check is the same.)
-        if (o1 == 0 && o2 == 0 && overlap_1d(s, t, /*strict=*/true)) fail("collinear overlap", i, j);
+        if (o1 == 0 && o2 == 0 && overlap_1d(s, t, /*strict=*/true))
+          fail("collinear overlap", i, j);
         continue;
       }
       if (o1 == 0 && o2 == 0) {
@@ -323,14 +332,17 @@ GenericityReport check_generic(const CurveSet& curves) {
         fail("a vertex touches a segment", i, j);
         continue;
       }
-      // Proper crossing: p = s.a + u (s.b - s.a), u = cross(t.a - s.a, t.b - t.a) / cross(s.b - s.a, t.b - t.a).
+      // Proper crossing: p = s.a + u (s.b - s.a), u = cross(t.a - s.a, t.b - t.a) / cross(s.b -
+      // s.a, t.b - t.a).
       if (small) {
         const auto ax = static_cast<__int128>(s.a.x), ay = static_cast<__int128>(s.a.y);
-        const __int128 dx = static_cast<__int128>(s.b.x) - ax, dy = static_cast<__int128>(s.b.y) - ay;
+        const __int128 dx = static_cast<__int128>(s.b.x) - ax,
+                       dy = static_cast<__int128>(s.b.y) - ay;
         const __int128 ex = static_cast<__int128>(t.b.x) - static_cast<__int128>(t.a.x);
         const __int128 ey = static_cast<__int128>(t.b.y) - static_cast<__int128>(t.a.y);
         __int128 den = dx * ey - dy * ex;
-        __int128 u = (static_cast<__int128>(t.a.x) - ax) * ey - (static_cast<__int128>(t.a.y) - ay) * ex;
+        __int128 u =
+            (static_cast<__int128>(t.a.x) - ax) * ey - (static_cast<__int128>(t.a.y) - ay) * ex;
         if (den < 0) {
           den = -den;
           u = -u;
@@ -340,18 +352,21 @@ GenericityReport check_generic(const CurveSet& curves) {
       }
       const Rational dx = Rational(s.b.x) - s.a.x, dy = Rational(s.b.y) - s.a.y;
       const Rational ex = Rational(t.b.x) - t.a.x, ey = Rational(t.b.y) - t.a.y;
-      const Rational u = ((Rational(t.a.x) - s.a.x) * ey - (Rational(t.a.y) - s.a.y) * ex) / (dx * ey - dy * ex);
+      const Rational u =
+          ((Rational(t.a.x) - s.a.x) * ey - (Rational(t.a.y) - s.a.y) * ex) / (dx * ey - dy * ex);
       crossings.push_back({Rational(s.a.x) + u * dx, Rational(s.a.y) + u * dy, i, j});
     }
   }
   report.crossings = crossings.size() + fast_crossings.size();
   auto triple = [&](std::size_t i0, std::size_t j0, std::size_t i1, std::size_t j1) {
-    fail("a triple point (segments " + std::to_string(i0) + ", " + std::to_string(j0) + ")", i1, j1);
+    fail("a triple point (segments " + std::to_string(i0) + ", " + std::to_string(j0) + ")", i1,
+         j1);
   };
-  std::sort(fast_crossings.begin(), fast_crossings.end(), [](const FastCrossing& a, const FastCrossing& b) {
-    const __int128 ax = a.x * b.den, bx = b.x * a.den;
-    return ax != bx ? ax < bx : a.y * b.den < b.y * a.den;
-  });
+  std::sort(fast_crossings.begin(), fast_crossings.end(),
+            [](const FastCrossing& a, const FastCrossing& b) {
+              const __int128 ax = a.x * b.den, bx = b.x * a.den;
+              return ax != bx ? ax < bx : a.y * b.den < b.y * a.den;
+            });
   for (std::size_t k = 1; k < fast_crossings.size(); ++k) {
     const FastCrossing& a = fast_crossings[k - 1];
     const FastCrossing& b = fast_crossings[k];
@@ -390,12 +405,14 @@ int turning_number(const Curve& curve) {
   return winding;
 }
 
-// ---- the paper's figures -------------------------------------------------------------------------
+// ---- the paper's figures
+// -------------------------------------------------------------------------
 
 CurveSet fig5() {
   // A band of width 3 around three sides of a square hole; its fourth leg runs down across the
   // band's own start (which ends inside it), so the two crossings sit on the left edge x = 3.
-  return integer_polygon({{2, 0}, {10, 0}, {10, 10}, {0, 10}, {0, -1}, {3, -1}, {3, 7}, {7, 7}, {7, 3}, {2, 3}}, 10);
+  return integer_polygon(
+      {{2, 0}, {10, 0}, {10, 10}, {0, 10}, {0, -1}, {3, -1}, {3, 7}, {7, 7}, {7, 3}, {2, 3}}, 10);
 }
 
 CurveSet fig6() { return doodle(2); }
@@ -407,13 +424,16 @@ CurveSet fig7() {
   auto egg = [](double t) {
     const double x = 7.0 * std::cos(t), y = 5.0 * std::sin(t) * (1.0 + 0.15 * std::cos(t));
     const double dx = -7.0 * std::sin(t);
-    const double dy = 5.0 * std::cos(t) * (1.0 + 0.15 * std::cos(t)) - 5.0 * std::sin(t) * 0.15 * std::sin(t);
+    const double dy =
+        5.0 * std::cos(t) * (1.0 + 0.15 * std::cos(t)) - 5.0 * std::sin(t) * 0.15 * std::sin(t);
     return CorePose{{x, y}, {dx, dy}};
   };
   const double deg = kPi / 180.0;
   CurveSet set;
-  set.curves.push_back(rounded_curve(band_boundary(sample_core(egg, -115 * deg, 115 * deg, 92), 2.0), 100.0));
-  set.curves.push_back(rounded_curve(band_boundary(sample_core(egg, 75 * deg, 285 * deg, 84), 1.4), 100.0));
+  set.curves.push_back(
+      rounded_curve(band_boundary(sample_core(egg, -115 * deg, 115 * deg, 92), 2.0), 100.0));
+  set.curves.push_back(
+      rounded_curve(band_boundary(sample_core(egg, 75 * deg, 285 * deg, 84), 1.4), 100.0));
   return set;
 }
 
@@ -434,8 +454,21 @@ CurveSet fig9() {
   // Diamond (winding 2) with corners at the crossings (0,4), (-4,0), (4,0), (0,-4); an arch over
   // the top (cell of winding 1, self-touching at (0,4)); two lenses below; a clockwise kink above
   // the top corner (a hole of winding 0).
-  return integer_polygon({{-1, 5}, {-2, 7}, {0, 8}, {2, 7}, {1, 5}, {-6, -2}, {-5, -5}, {-2, -6}, {6, 2}, {5, 10},
-                          {-5, 10}, {-6, 2}, {2, -6}, {5, -5}, {6, -2}},
+  return integer_polygon({{-1, 5},
+                          {-2, 7},
+                          {0, 8},
+                          {2, 7},
+                          {1, 5},
+                          {-6, -2},
+                          {-5, -5},
+                          {-2, -6},
+                          {6, 2},
+                          {5, 10},
+                          {-5, 10},
+                          {-6, 2},
+                          {2, -6},
+                          {5, -5},
+                          {6, -2}},
                          10);
 }
 
@@ -445,15 +478,19 @@ CurveSet fig12_simple() {
   const double a = 3.4, radius = 3.0, tail = 3.6;
   std::vector<CorePose> half;
   const int straight_steps = 8, arc_steps = 54, tail_steps = 8;
-  for (int i = 0; i <= straight_steps; ++i) half.push_back({{a * i / straight_steps, 0.0}, {1.0, 0.0}});
+  for (int i = 0; i <= straight_steps; ++i)
+    half.push_back({{a * i / straight_steps, 0.0}, {1.0, 0.0}});
   for (int i = 1; i <= arc_steps; ++i) {
     const double t = -kPi / 2 + 1.5 * kPi * i / arc_steps;
-    half.push_back({{a + radius * std::cos(t), radius + radius * std::sin(t)}, {-std::sin(t), std::cos(t)}});
+    half.push_back(
+        {{a + radius * std::cos(t), radius + radius * std::sin(t)}, {-std::sin(t), std::cos(t)}});
   }
   const Point corner = half.back().position;
-  for (int i = 1; i <= tail_steps; ++i) half.push_back({{corner.x, corner.y - tail * i / tail_steps}, {0.0, -1.0}});
+  for (int i = 1; i <= tail_steps; ++i)
+    half.push_back({{corner.x, corner.y - tail * i / tail_steps}, {0.0, -1.0}});
   std::vector<CorePose> core;
-  for (std::size_t i = half.size(); i-- > 1;) core.push_back({{-half[i].position.x, -half[i].position.y}, half[i].tangent});
+  for (std::size_t i = half.size(); i-- > 1;)
+    core.push_back({{-half[i].position.x, -half[i].position.y}, half[i].tangent});
   core.insert(core.end(), half.begin(), half.end());
   return single(rounded_curve(band_boundary(core, 2.0), 100.0));
 }
@@ -489,7 +526,8 @@ CurveSet fig15() {
   return set;
 }
 
-// ---- known answers ---------------------------------------------------------------------------------
+// ---- known answers
+// ---------------------------------------------------------------------------------
 
 CurveSet convex_polygon(int vertices) {
   IMM_ASSERT(vertices >= 3, "a convex polygon needs at least 3 vertices");
@@ -538,7 +576,8 @@ CurveSet spiral(int turns) {
   auto core = [&](double t) {
     const double r = r0 + pitch * t / (2 * kPi);
     const double dr = pitch / (2 * kPi);
-    return CorePose{{r * std::cos(t), r * std::sin(t)}, {dr * std::cos(t) - r * std::sin(t), dr * std::sin(t) + r * std::cos(t)}};
+    return CorePose{{r * std::cos(t), r * std::sin(t)},
+                    {dr * std::cos(t) - r * std::sin(t), dr * std::sin(t) + r * std::cos(t)}};
   };
   const int steps = 40 * turns + 7;  // odd offsets keep the caps away from sample angles
   // The integer grid keeps about 20 grid steps per pitch.
@@ -551,7 +590,8 @@ CurveSet doodle(int lobes) {
   std::vector<SeifertCircle> circles;
   std::vector<SeifertJoin> joins;
   add_doodle(circles, joins, lobes, 0.0);
-  CurveSet set = trace_seifert(circles, joins, kSeifertSamples, doodle_scale(lobes), doodle_gap(lobes));
+  CurveSet set =
+      trace_seifert(circles, joins, kSeifertSamples, doodle_scale(lobes), doodle_gap(lobes));
   IMM_ASSERT(set.curves.size() == 1, "the doodle's Seifert joins must give one curve");
   return set;
 }
@@ -569,7 +609,8 @@ CurveSet doodle_chain(int count, int lobes) {
     if (previous >= 0) joins.push_back({previous, 0.0, first, kPi});
     previous = first;
   }
-  CurveSet set = trace_seifert(circles, joins, kSeifertSamples, doodle_scale(lobes), doodle_gap(lobes));
+  CurveSet set =
+      trace_seifert(circles, joins, kSeifertSamples, doodle_scale(lobes), doodle_gap(lobes));
   IMM_ASSERT(set.curves.size() == 1, "a doodle chain must be one curve");
   return set;
 }
@@ -622,7 +663,8 @@ CurveSet random_polygon(int vertices, std::uint64_t seed) {
 }
 
 CurveSet random_multi(int components, int vertices, std::uint64_t seed) {
-  IMM_ASSERT(components >= 1 && vertices >= 3, "random_multi needs components >= 1 and vertices >= 3");
+  IMM_ASSERT(components >= 1 && vertices >= 3,
+             "random_multi needs components >= 1 and vertices >= 3");
   return first_generic(seed, [&](std::mt19937_64& rng) {
     // Centres on a jittered grid with pitch 1.3 radius, so neighbouring stars overlap.
     std::uniform_real_distribution<double> jitter(-0.25, 0.25);
@@ -639,7 +681,8 @@ CurveSet random_multi(int components, int vertices, std::uint64_t seed) {
   });
 }
 
-// ---- registry -------------------------------------------------------------------------------------
+// ---- registry
+// -------------------------------------------------------------------------------------
 
 namespace {
 
@@ -653,58 +696,90 @@ struct Entry {
 const std::vector<Entry>& entries() {
   static const std::vector<Entry> kEntries = [] {
     std::vector<Entry> e;
-    auto fixed = [&](std::string name, std::string description, int expected, std::string note, CurveSet (*make)()) {
+    auto fixed = [&](std::string name, std::string description, int expected, std::string note,
+                     CurveSet (*make)()) {
       e.push_back({{std::move(name), std::move(description), {}, expected, std::move(note)},
                    [make](const std::vector<long>&) { return make(); }});
     };
-    fixed("fig5", "Fig. 5: a band hooked over its own start; the largest cell self-touches", 1, "1 immersion", fig5);
-    fixed("fig6", "Fig. 6: Milnor-type doodle with two lobes (= doodle 2), 6 crossings, windings 0..3", 2,
+    fixed("fig5", "Fig. 5: a band hooked over its own start; the largest cell self-touches", 1,
+          "1 immersion", fig5);
+    fixed("fig6",
+          "Fig. 6: Milnor-type doodle with two lobes (= doodle 2), 6 crossings, windings 0..3", 2,
           "2 immersions", fig6);
-    fixed("fig7", "Fig. 7: two components around an egg-shaped hole, overlapping at their ends", 1, "1 immersion",
-          fig7);
-    fixed("fig8", "Fig. 8: a curve going around twice; windings >= 0 but not the boundary of an immersion", 0,
-          "not immersible (exit 3)", fig8);
-    fixed("fig9", "Fig. 9/11: 4 cells, 8 patches, 4 arcs; cell 0 self-touches at arc 0", 1, "1 immersion", fig9);
-    fixed("fig12-simple", "Fig. 12 top: a disk immersed with windings up to 3 (band curled at both ends)", 1,
+    fixed("fig7", "Fig. 7: two components around an egg-shaped hole, overlapping at their ends", 1,
+          "1 immersion", fig7);
+    fixed("fig8",
+          "Fig. 8: a curve going around twice; windings >= 0 but not the boundary of an immersion",
+          0, "not immersible (exit 3)", fig8);
+    fixed("fig9", "Fig. 9/11: 4 cells, 8 patches, 4 arcs; cell 0 self-touches at arc 0", 1,
+          "1 immersion", fig9);
+    fixed("fig12-simple",
+          "Fig. 12 top: a disk immersed with windings up to 3 (band curled at both ends)", 1,
           "1 immersion", fig12_simple);
-    fixed("fig12-ring", "Fig. 12 bottom: annulus boundary winding twice; self-connecting ring cell", 0,
-          "self-connecting cell (exit 3)", fig12_ring);
-    fixed("fig15", "Fig. 15/16: Rule 6 in its three-patch form (a kink inside a winding-2 annulus)", 1,
-          "1 immersion", fig15);
-    e.push_back({{"convex", "regular convex polygon with N vertices", {{"n", "vertices", 12, 3, 1000000}}, 1,
-                  "1 immersion"},
-                 [](const std::vector<long>& p) { return convex_polygon(static_cast<int>(p[0])); }});
-    e.push_back({{"figure-eight", "lemniscate with one crossing (windings +1/-1, turning number 0)",
-                  {{"samples", "vertices (even)", 32, 8, 1000000}}, 0, "inversion (exit 3)"},
+    fixed("fig12-ring", "Fig. 12 bottom: annulus boundary winding twice; self-connecting ring cell",
+          0, "self-connecting cell (exit 3)", fig12_ring);
+    fixed("fig15", "Fig. 15/16: Rule 6 in its three-patch form (a kink inside a winding-2 annulus)",
+          1, "1 immersion", fig15);
+    e.push_back(
+        {{"convex",
+          "regular convex polygon with N vertices",
+          {{"n", "vertices", 12, 3, 1000000}},
+          1,
+          "1 immersion"},
+         [](const std::vector<long>& p) { return convex_polygon(static_cast<int>(p[0])); }});
+    e.push_back({{"figure-eight",
+                  "lemniscate with one crossing (windings +1/-1, turning number 0)",
+                  {{"samples", "vertices (even)", 32, 8, 1000000}},
+                  0,
+                  "inversion (exit 3)"},
                  [](const std::vector<long>& p) { return figure_eight(static_cast<int>(p[0])); }});
-    e.push_back({{"limacon", "limacon r = 1 + 2 cos(t) with its inner loop (turning number 2)",
-                  {{"samples", "vertices", 48, 12, 1000000}}, 0, "not immersible (exit 3)"},
+    e.push_back({{"limacon",
+                  "limacon r = 1 + 2 cos(t) with its inner loop (turning number 2)",
+                  {{"samples", "vertices", 48, 12, 1000000}},
+                  0,
+                  "not immersible (exit 3)"},
                  [](const std::vector<long>& p) { return limacon(static_cast<int>(p[0])); }});
-    fixed("curl", "a band that curls once over itself (turning number 1, a region of winding 2)", 1, "1 immersion",
-          curl);
-    e.push_back({{"doodle", "rotationally symmetric Milnor-type doodle with K lobes, K(K+1) crossings",
-                  {{"k", "lobes", 2, 1, 12}}, 2, "Catalan(K) immersions: 1, 2, 5, 14, 42, 132, 429 for K = 1..7"},
+    fixed("curl", "a band that curls once over itself (turning number 1, a region of winding 2)", 1,
+          "1 immersion", curl);
+    e.push_back({{"doodle",
+                  "rotationally symmetric Milnor-type doodle with K lobes, K(K+1) crossings",
+                  {{"k", "lobes", 2, 1, 12}},
+                  2,
+                  "Catalan(K) immersions: 1, 2, 5, 14, 42, 132, 429 for K = 1..7"},
                  [](const std::vector<long>& p) { return doodle(static_cast<int>(p[0])); }});
-    e.push_back({{"doodle-chain", "K doodles (two lobes by default) in a row joined by thin bands", {{"k", "doodles", 3, 1, 1000},
-                  {"lobes", "lobes per doodle", 2, 1, 12}}, 8, "Catalan(lobes)^K immersions (2^K for 2 lobes)"},
+    e.push_back({{"doodle-chain",
+                  "K doodles (two lobes by default) in a row joined by thin bands",
+                  {{"k", "doodles", 3, 1, 1000}, {"lobes", "lobes per doodle", 2, 1, 12}},
+                  8,
+                  "Catalan(lobes)^K immersions (2^K for 2 lobes)"},
                  [](const std::vector<long>& p) {
                    return doodle_chain(static_cast<int>(p[0]), static_cast<int>(p[1]));
                  }});
-    e.push_back({{"spiral", "a band coiled K times over itself (windings up to K + 1)", {{"k", "turns", 3, 1, 100}},
-                  1, "1 immersion"},
+    e.push_back({{"spiral",
+                  "a band coiled K times over itself (windings up to K + 1)",
+                  {{"k", "turns", 3, 1, 100}},
+                  1,
+                  "1 immersion"},
                  [](const std::vector<long>& p) { return spiral(static_cast<int>(p[0])); }});
-    e.push_back({{"random", "random polygon with N vertices (seeded; often an inversion)",
-                  {{"n", "vertices", 20, 3, 5000}, {"seed", "random seed", 1, 0, 9223372036854775807L}}, -1,
-                  "varies"},
-                 [](const std::vector<long>& p) {
-                   return random_polygon(static_cast<int>(p[0]), static_cast<std::uint64_t>(p[1]));
-                 }});
-    e.push_back({{"random-multi", "C random star-shaped components with N vertices each, overlapping (seeded)",
-                  {{"c", "components", 4, 1, 10000}, {"n", "vertices per component", 16, 3, 10000},
+    e.push_back(
+        {{"random",
+          "random polygon with N vertices (seeded; often an inversion)",
+          {{"n", "vertices", 20, 3, 5000}, {"seed", "random seed", 1, 0, 9223372036854775807L}},
+          -1,
+          "varies"},
+         [](const std::vector<long>& p) {
+           return random_polygon(static_cast<int>(p[0]), static_cast<std::uint64_t>(p[1]));
+         }});
+    e.push_back({{"random-multi",
+                  "C random star-shaped components with N vertices each, overlapping (seeded)",
+                  {{"c", "components", 4, 1, 10000},
+                   {"n", "vertices per component", 16, 3, 10000},
                    {"seed", "random seed", 1, 0, 9223372036854775807L}},
-                  -1, "at least 1 immersion"},
+                  -1,
+                  "at least 1 immersion"},
                  [](const std::vector<long>& p) {
-                   return random_multi(static_cast<int>(p[0]), static_cast<int>(p[1]), static_cast<std::uint64_t>(p[2]));
+                   return random_multi(static_cast<int>(p[0]), static_cast<int>(p[1]),
+                                       static_cast<std::uint64_t>(p[2]));
                  }});
     return e;
   }();
@@ -786,21 +861,22 @@ GenerateResult generate(std::string_view name, const std::vector<std::string>& a
       }
     }
     if (index >= params.size()) {
-      result.error = "generator '" + std::string(name) + "' takes " + std::to_string(params.size()) +
-                     " parameter" + (params.size() == 1 ? "" : "s") + ", got '" + argument + "'";
+      result.error = "generator '" + std::string(name) + "' takes " +
+                     std::to_string(params.size()) + " parameter" +
+                     (params.size() == 1 ? "" : "s") + ", got '" + argument + "'";
       return result;
     }
     long value = 0;
     const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
     if (parsed.ec != std::errc() || parsed.ptr != text.data() + text.size()) {
-      result.error = "parameter '" + params[index].name + "' of '" + std::string(name) + "' must be an integer, got '" +
-                     text + "'";
+      result.error = "parameter '" + params[index].name + "' of '" + std::string(name) +
+                     "' must be an integer, got '" + text + "'";
       return result;
     }
     if (value < params[index].min_value || value > params[index].max_value) {
-      result.error = "parameter '" + params[index].name + "' of '" + std::string(name) + "' must lie in [" +
-                     std::to_string(params[index].min_value) + ", " + std::to_string(params[index].max_value) +
-                     "], got " + std::to_string(value);
+      result.error = "parameter '" + params[index].name + "' of '" + std::string(name) +
+                     "' must lie in [" + std::to_string(params[index].min_value) + ", " +
+                     std::to_string(params[index].max_value) + "], got " + std::to_string(value);
       return result;
     }
     if (params[index].name == "samples" && name == "figure-eight" && value % 2 != 0) {

@@ -175,7 +175,7 @@ CurveSet random_multi(int components, int vertices, std::uint64_t seed);
 struct GenericityReport {
   std::size_t crossings = 0;  ///< proper crossings (segment pairs crossing in their interiors)
   bool generic = true;
-  std::string problem;        ///< the first defect found, when not generic
+  std::string problem;  ///< the first defect found, when not generic
 };
 
 /// Exact test of the paper's non-degeneracy on the raw segments: no zero-length segment, no

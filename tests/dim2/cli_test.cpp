@@ -333,6 +333,58 @@ TEST_F(CliTest, GenerateListsAndWritesCurves) {
   EXPECT_CONTAINS(check.output, "valid");
 }
 
+TEST_F(CliTest, GeneratedFiguresGiveTheirKnownVerdicts) {
+  // `immerse generate` then `immerse immersions --all` on the paper's figure curves
+  // (dim2/generators.h): the counts the generators are designed for, through the binary.
+  struct Case {
+    const char* name;
+    int code;
+    const char* expected;
+  };
+  const std::vector<Case> cases = {
+      {"fig5", 0, "1 immersion"},        {"fig6", 0, "2 immersions"},
+      {"fig7", 0, "1 immersion"},        {"fig8", 3, "not immersible"},
+      {"fig9", 0, "1 immersion"},        {"fig12-simple", 0, "1 immersion"},
+      {"fig12-ring", 3, "self-connecting"}, {"fig15", 0, "1 immersion"},
+      {"figure-eight", 3, "winding number -1"}, {"doodle 3", 0, "5 immersions"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string file = std::string("gen/") + std::regex_replace(c.name, std::regex(" "), "_") + ".txt";
+    const Outcome g = run(std::string("generate ") + c.name + " -o " + file);
+    ASSERT_EQ(g.code, 0) << g.output;
+    EXPECT_EQ(run("check " + file).code, 0);
+    const Outcome r = run("immersions " + file + " --all");
+    EXPECT_EQ(r.code, c.code) << r.output;
+    EXPECT_CONTAINS(r.output, c.expected);
+  }
+  // fig6 with pictures: one SVG per immersion, and the JSON agrees.
+  const Outcome r = run("immersions gen/fig6.txt --all --svg fig6_svg --json fig6.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::vector<std::string> svgs;
+  for (const auto& entry : fs::directory_iterator(dir_ / "fig6_svg")) svgs.push_back(entry.path().filename().string());
+  std::sort(svgs.begin(), svgs.end());
+  EXPECT_EQ(svgs, (std::vector<std::string>{"immersion_0.svg", "immersion_1.svg"}));
+  EXPECT_EQ(json_integer(read("fig6.json"), "count"), 2);
+  // Parameters and the OBJ output format.
+  const Outcome obj = run("generate doodle-chain 2 -o gen/chain.obj");
+  ASSERT_EQ(obj.code, 0) << obj.output;
+  const Outcome chain = run("immersions gen/chain.obj --all");
+  EXPECT_EQ(chain.code, 0) << chain.output;
+  EXPECT_CONTAINS(chain.output, "4 immersions");
+  // SVG output reads back to the same complex.
+  ASSERT_EQ(run("generate fig9 -o gen/fig9.svg").code, 0);
+  const Outcome svg = run("cells gen/fig9.svg --json fig9_svg.json");
+  ASSERT_EQ(svg.code, 0) << svg.output;
+  const Outcome txt = run("cells gen/fig9.txt --json fig9_txt.json");
+  ASSERT_EQ(txt.code, 0) << txt.output;
+  for (const char* key : {"cells", "patches", "arcs", "max_winding"}) {
+    EXPECT_EQ(json_integer(read("fig9_svg.json"), key), json_integer(read("fig9_txt.json"), key)) << key;
+  }
+  EXPECT_EQ(json_integer(read("fig9_txt.json"), "cells"), 4);
+  EXPECT_EQ(run("generate doodle 0").code, 64);
+}
+
 TEST_F(CliTest, UnwritableOutputExitsWithOneAndLeavesNothing) {
   write("doodle.txt", two_immersion_curve());
   write("blocker", "a file where a directory is expected\n");

@@ -9,6 +9,8 @@
 //   doodle K = 1..5: 1, 2, 5, 14, 42 (the Catalan numbers; K = 6, 7 give 132 and 429, not run
 //   here for time), doodle-chain K: 2^K, spiral K: 1,
 //   fig6 = doodle 2: 2 (DESIGN §6), fig8: 0, fig12-ring: self-connecting cell.
+#include "dim2/generators.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,7 +21,6 @@
 
 #include "core/graph_search.h"
 #include "dim2/complex2.h"
-#include "dim2/generators.h"
 #include "support/brute_force.h"
 #include "support/immersion_checker.h"
 #include "support/random_curves.h"
@@ -53,7 +54,8 @@ Built build(const CurveSet& curves) {
     // DESIGN §4 invariant 1: sum of w * area equals the signed area enclosed, exactly.
     const CellComplex<2>& cc = result.complex->complex;
     Rational sum = 0;
-    for (CellId c : ids<CellId>(cc.cell_count())) sum += cc.winding_number(c) * cc.measure(cc.region_of(c));
+    for (CellId c : ids<CellId>(cc.cell_count()))
+      sum += cc.winding_number(c) * cc.measure(cc.region_of(c));
     const Rational area = test::signed_area(curves);
     EXPECT_EQ(sum, result.complex->reversed ? Rational(-area) : area);
     EXPECT_EQ(cc.arc_count(), generic.crossings);
@@ -96,7 +98,8 @@ SearchResult all_immersions(const CellComplex<2>& complex, double brute_force_li
     }
     if (product <= 100'000) {
       const auto brute = test_support::brute_force_immersions(complex, 300'000);
-      EXPECT_EQ(brute.classes.size(), r.immersions.size()) << "brute force disagrees with the search";
+      EXPECT_EQ(brute.classes.size(), r.immersions.size())
+          << "brute force disagrees with the search";
     }
   }
   return r;
@@ -150,9 +153,10 @@ const std::vector<Expected>& expectations() {
 }
 
 TEST(Generators, RegistryIsCompleteAndEveryDefaultIsValidGenericAndDeterministic) {
-  const std::set<std::string> required = {"fig5", "fig6", "fig7", "fig8", "fig9", "fig12-simple", "fig12-ring",
-                                          "fig15", "convex", "figure-eight", "limacon", "curl", "doodle",
-                                          "doodle-chain", "spiral", "random", "random-multi"};
+  const std::set<std::string> required = {
+      "fig5",       "fig6",         "fig7",   "fig8",         "fig9",        "fig12-simple",
+      "fig12-ring", "fig15",        "convex", "figure-eight", "limacon",     "curl",
+      "doodle",     "doodle-chain", "spiral", "random",       "random-multi"};
   std::set<std::string> names;
   for (const GeneratorInfo& info : generator_registry()) {
     SCOPED_TRACE(info.name);
@@ -172,7 +176,8 @@ TEST(Generators, RegistryIsCompleteAndEveryDefaultIsValidGenericAndDeterministic
       }
     }
   }
-  for (const std::string& name : required) EXPECT_TRUE(names.count(name)) << "missing generator " << name;
+  for (const std::string& name : required)
+    EXPECT_TRUE(names.count(name)) << "missing generator " << name;
   EXPECT_EQ(find_generator("no-such-curve"), nullptr);
   EXPECT_EQ(curve_generators().size(), generator_registry().size());
 }
@@ -205,7 +210,8 @@ TEST(Generators, NamedCurvesHaveTheirDesignedComplexAndImmersionCounts) {
     const SearchResult r = all_immersions(cc);
     EXPECT_EQ(r.status, e.status) << r.conflict.message;
     EXPECT_EQ(static_cast<int>(r.immersions.size()), e.immersions);
-    if (const GeneratorInfo* info = find_generator(e.name); info && e.args.empty() && info->expected_immersions >= 0) {
+    if (const GeneratorInfo* info = find_generator(e.name);
+        info && e.args.empty() && info->expected_immersions >= 0) {
       EXPECT_EQ(info->expected_immersions, e.immersions) << "registry states another count";
     }
   }
@@ -299,7 +305,8 @@ TEST(Generators, Fig9MatchesThePaperCaption) {
         for (const Entry& e : paper_cells[c]) mapped.push_back({patch_map[e.first], e.second});
         std::sort(mapped.begin(), mapped.end());
         std::vector<Entry> ours;
-        for (const BPatch& bp : cc.b_patches(CellId(cell_map[c]))) ours.push_back({bp.patch.value(), bp.agrees});
+        for (const BPatch& bp : cc.b_patches(CellId(cell_map[c])))
+          ours.push_back({bp.patch.value(), bp.agrees});
         std::sort(ours.begin(), ours.end());
         ok = mapped == ours;
       }
@@ -322,7 +329,8 @@ TEST(Generators, Fig9MatchesThePaperCaption) {
         }
         const auto touching = cc.self_touching_arcs(CellId(cell_map[0]));
         arcs_ok = arcs_ok && touching.size() == 1 && touching[0] == ArcId(arc_map[0]);
-        for (int c = 1; c < 4; ++c) arcs_ok = arcs_ok && cc.self_touching_arcs(CellId(cell_map[c])).empty();
+        for (int c = 1; c < 4; ++c)
+          arcs_ok = arcs_ok && cc.self_touching_arcs(CellId(cell_map[c])).empty();
         matches += arcs_ok;
       } while (std::next_permutation(arc_map.begin(), arc_map.end()));
     } while (std::next_permutation(patch_map.begin(), patch_map.end()));
@@ -368,7 +376,8 @@ TEST(Generators, RandomPolygonsAreGenericAndSeeded) {
   for (std::uint64_t seed = 0; seed < 20; ++seed) {
     SCOPED_TRACE(seed);
     const CurveSet a = random_polygon(12 + static_cast<int>(seed), seed);
-    EXPECT_EQ(format_curves_text(a), format_curves_text(random_polygon(12 + static_cast<int>(seed), seed)));
+    EXPECT_EQ(format_curves_text(a),
+              format_curves_text(random_polygon(12 + static_cast<int>(seed), seed)));
     ASSERT_EQ(a.curves.size(), 1u);
     EXPECT_EQ(a.curves[0].vertices.size(), 12 + seed);
     EXPECT_TRUE(check_generic(a).generic);
@@ -401,12 +410,12 @@ TEST(Generators, ParametersAreParsedAndChecked) {
   EXPECT_EQ(format_curves_text(generate("doodle-chain", {"2", "lobes=3"}).curves),
             format_curves_text(doodle_chain(2, 3)));
   EXPECT_FALSE(generate("nope", {}).ok());
-  EXPECT_FALSE(generate("doodle", {"0"}).ok());       // out of range
-  EXPECT_FALSE(generate("doodle", {"x"}).ok());       // not an integer
-  EXPECT_FALSE(generate("doodle", {"2", "3"}).ok());  // too many
-  EXPECT_FALSE(generate("doodle", {"q=2"}).ok());     // unknown name
-  EXPECT_FALSE(generate("figure-eight", {"9"}).ok()); // must be even
-  EXPECT_FALSE(generate("fig6", {"1"}).ok());         // takes none
+  EXPECT_FALSE(generate("doodle", {"0"}).ok());        // out of range
+  EXPECT_FALSE(generate("doodle", {"x"}).ok());        // not an integer
+  EXPECT_FALSE(generate("doodle", {"2", "3"}).ok());   // too many
+  EXPECT_FALSE(generate("doodle", {"q=2"}).ok());      // unknown name
+  EXPECT_FALSE(generate("figure-eight", {"9"}).ok());  // must be even
+  EXPECT_FALSE(generate("fig6", {"1"}).ok());          // takes none
 }
 
 TEST(Generators, GenericityCheckFindsEveryDegeneracy) {
@@ -425,7 +434,8 @@ TEST(Generators, GenericityCheckFindsEveryDegeneracy) {
   // Three segments through one point: two curves crossing a third at its crossing.
   CurveSet triple;
   triple.curves.push_back({{{-2, -1}, {2, 1}, {2, -1}, {-2, 1}}});  // crosses itself at (0,0)
-  triple.curves.push_back({{{0, -3}, {1, 3}, {-1, 3}}});            // (0,-3)->(1,3) misses, (-1,3)->(0,-3) misses
+  triple.curves.push_back(
+      {{{0, -3}, {1, 3}, {-1, 3}}});  // (0,-3)->(1,3) misses, (-1,3)->(0,-3) misses
   EXPECT_TRUE(check_generic(triple).generic);
   triple.curves[1] = {{{0, -3}, {1, 3}, {0, 3}}};  // (0,3)->(0,-3) passes through (0,0)
   EXPECT_FALSE(check_generic(triple).generic);
