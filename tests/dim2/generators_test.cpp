@@ -219,7 +219,13 @@ TEST(Generators, NamedCurvesHaveTheirDesignedComplexAndImmersionCounts) {
 
 TEST(Generators, DoodleIsTheMilnorTypeCurveOfDesign) {
   // DESIGN §6: six crossings, winding numbers 0 to 3, symmetric under a half-turn, exactly two
-  // immersions; fig6 is this curve.
+  // immersions; fig6 is this curve. The literature's count for Milnor's doodle is two
+  // inequivalent immersed disks: the example is Milnor's, reported in S. J. Blank, "Extending
+  // immersions of the circle", PhD thesis, Brandeis University, 1967, and it is the standard
+  // example of Shor & Van Wyk 1989 (paper Fig. 6) and of Eppstein & Mumford, "Self-overlapping
+  // curves revisited", SODA 2009. Our doodle 2 is a curve of the same kind (two lobes, two
+  // clockwise kinks, winding up to 3), not a copy of Milnor's drawing, so the count is also
+  // confirmed below by brute-force enumeration.
   const CurveSet doodle2 = doodle(2);
   EXPECT_EQ(format_curves_text(doodle2), format_curves_text(fig6()));
   ASSERT_EQ(doodle2.curves.size(), 1u);

@@ -12,6 +12,7 @@
 
 #include "core/graph_search.h"
 #include "dim2/complex2.h"
+#include "dim2/generators.h"
 #include "support/brute_force.h"
 #include "support/immersion_checker.h"
 #include "support/random_curves.h"
@@ -262,6 +263,47 @@ TEST(Immersion2Real, SharedCurves) {
     std::cout << e.file << ": " << result.immersions.size() << " immersion(s), "
               << built.complex->complex.cell_count() << " cells, " << result.stats.states
               << " states\n";
+  }
+}
+
+}  // namespace
+}  // namespace imm::dim2
+
+namespace imm::dim2 {
+namespace {
+
+/// DESIGN §4 invariant 4, metamorphic: the immersions of the paper's curves do not change under
+/// an exact rational rotation (the 3-4-5 rotation, on coordinates scaled by 5 so every image is
+/// an integer), a translation, a shifted start vertex and a reversed order of the curves.
+TEST(Immersion2Metamorphic, RationalRotationTranslationAndReindexing) {
+  const std::pair<const char*, std::vector<std::string>> inputs[] = {
+      {"fig5", {}}, {"fig6", {}}, {"fig7", {}}, {"fig9", {}}, {"fig12-simple", {}}, {"doodle", {"3"}},
+      {"doodle-chain", {"2"}}};
+  for (const auto& [name, params] : inputs) {
+    SCOPED_TRACE(name);
+    const GenerateResult g = generate(name, params);
+    ASSERT_TRUE(g.ok()) << g.error;
+    CurveSet moved;
+    for (const Curve& c : g.curves.curves) {
+      Curve m;
+      for (const Point& p : c.vertices) {
+        const double x = 5 * p.x, y = 5 * p.y;  // exact: integers well below 2^53
+        m.vertices.push_back({(3 * x - 4 * y) / 5 + 1234, (4 * x + 3 * y) / 5 - 567});
+      }
+      moved.curves.push_back(std::move(m));
+    }
+    moved = reindexed(moved, 42);
+    const BuildResult a = build_complex(g.curves);
+    const BuildResult b = build_complex(moved);
+    ASSERT_TRUE(a.complex && b.complex);
+    EXPECT_EQ(a.complex->complex.cell_count(), b.complex->complex.cell_count());
+    EXPECT_EQ(a.complex->complex.patch_count(), b.complex->complex.patch_count());
+    EXPECT_EQ(a.complex->complex.arc_count(), b.complex->complex.arc_count());
+    const SearchResult ra = search_all(a.complex->complex);
+    const SearchResult rb = search_all(b.complex->complex);
+    expect_valid_result(b.complex->complex, rb);
+    EXPECT_EQ(ra.immersions.size(), rb.immersions.size());
+    EXPECT_EQ(ra.status, rb.status);
   }
 }
 
