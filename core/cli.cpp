@@ -892,11 +892,10 @@ int command_check(Session& s, const CommandLine& cl) {
   return kExitOk;
 }
 
-int command_cells(Session& s, const CommandLine& cl) {
-  s.enable_summary();
-  Prepared p;
-  p.path = cl.positional[0];
-  const auto json_path = cl.value("--json");
+/// For the commands that need a valid, non-inverted complex: reads, validates and builds it.
+/// On failure prints the verdict, writes the early JSON report when one was asked for, and
+/// @return the exit code (2 invalid input, 3 inverted); kExitOk when the complex is ready.
+int prepare_complex_or_report(Session& s, Prepared& p, const std::optional<std::string>& json_path) {
   int code = prepare_curves(s, p);
   if (code == kExitOk && p.inversion) {
     print_inversion(s, p);
@@ -905,8 +904,16 @@ int command_cells(Session& s, const CommandLine& cl) {
   if (code != kExitOk) {
     if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report")) return kExitInternalError;
     print_written(s);
-    return code;
   }
+  return code;
+}
+
+int command_cells(Session& s, const CommandLine& cl) {
+  s.enable_summary();
+  Prepared p;
+  p.path = cl.positional[0];
+  const auto json_path = cl.value("--json");
+  if (const int code = prepare_complex_or_report(s, p, json_path); code != kExitOk) return code;
   s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << '\n';
   print_cell_table(s, *p.complex);
   if (json_path && !s.write(*json_path, cells_report_json(p, s).dump(), "the cell complex (JSON)")) {
@@ -987,16 +994,7 @@ int command_immersions(Session& s, const CommandLine& cl) {
   Prepared p;
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
-  int code = prepare_curves(s, p);
-  if (code == kExitOk && p.inversion) {
-    print_inversion(s, p);
-    code = kExitNotImmersible;
-  }
-  if (code != kExitOk) {
-    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report")) return kExitInternalError;
-    print_written(s);
-    return code;
-  }
+  if (const int code = prepare_complex_or_report(s, p, json_path); code != kExitOk) return code;
   const SearchResult r = run_search(s, *p.complex, request);
   s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
   print_search_result(s, p, r, request);
@@ -1121,16 +1119,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
   Prepared p;
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
-  int code = prepare_curves(s, p);
-  if (code == kExitOk && p.inversion) {
-    print_inversion(s, p);
-    code = kExitNotImmersible;
-  }
-  if (code != kExitOk) {
-    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report")) return kExitInternalError;
-    print_written(s);
-    return code;
-  }
+  if (const int code = prepare_complex_or_report(s, p, json_path); code != kExitOk) return code;
   const SearchResult r = run_search(s, *p.complex, request);
   if (r.status != ImmersionStatus::Immersible) {
     s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
@@ -1146,7 +1135,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
                            plural(r.immersions.size(), "immersion") + " (numbered from 0)" +
                            (r.complete ? "" : "; the search stopped early, raise --max-states"));
   }
-  code = mesh_and_write(s, p, r, k, options, cl);
+  const int code = mesh_and_write(s, p, r, k, options, cl);
   print_written(s);
   return code;
 }
