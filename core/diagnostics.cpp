@@ -21,6 +21,7 @@ const char* to_string(DefectKind kind) {
     case DefectKind::Touching: return "touching";
     case DefectKind::TriplePoint: return "triple-point";
     case DefectKind::NotCovered: return "not-covered";
+    case DefectKind::OutOfRange: return "out-of-range";
   }
   return "unknown";
 }

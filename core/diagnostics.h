@@ -29,6 +29,7 @@ enum class DefectKind {
   Touching,               ///< the input touches itself without crossing (vertex on a facet, ...)
   TriplePoint,            ///< three or more sheets through one point (2D) / non-generic (3D)
   NotCovered,             ///< a background mesh that does not cover the input (meshing)
+  OutOfRange,             ///< coordinates a double-precision step (mesh generation) cannot take
 };
 
 /// A short, stable name for a kind ("collinear-overlap", ...), used in messages and JSON.

@@ -317,6 +317,27 @@ Background make_background(const Complex2& complex, const MeshOptions& options,
     out.triangles = std::move(mesh.triangles);
     return out;
   }
+  // The generated background is a double-precision Delaunay mesh: its predicates are exact, but
+  // the mesher's constructions (squared lengths, circumcentres) overflow or underflow far from
+  // unit scale and CGAL then fails inside the mesher. Refuse such inputs with a clear message;
+  // the exact steps (complex, search, clipping against a given --background) have no such limit.
+  constexpr double kMaxCoordinate = 1e75;
+  constexpr double kMinDiagonal = 1e-60;
+  double diagonal = 0.0;
+  double largest = 0.0;
+  enlarged_input_box(complex, diagonal);
+  for (const Curve& curve : complex.curves.curves) {
+    for (const Point& p : curve.vertices) largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
+  }
+  if (!(largest <= kMaxCoordinate) || !(diagonal >= kMinDiagonal)) {
+    std::ostringstream msg;
+    msg << "cannot generate a background mesh: the input's largest coordinate is " << largest
+        << " and its bounding-box diagonal " << diagonal << "; the double-precision mesher needs "
+        << "coordinates up to " << kMaxCoordinate << " and a diagonal of at least " << kMinDiagonal
+        << " (scale the input, or pass --background)";
+    report.add({DefectKind::OutOfRange, "mesh", msg.str(), {}, {}, {}});
+    return {};
+  }
   if (options.progress) options.progress("meshing: background triangulation");
   return generate_background(complex, options);
 }

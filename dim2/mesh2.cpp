@@ -228,44 +228,47 @@ std::string format_mesh_svg(const Complex2& complex, const Immersion& immersion,
     for (const Point& p : c.vertices) grow(p);
   if (!(xmin <= xmax)) return "<svg xmlns=\"http://www.w3.org/2000/svg\"/>\n";
   // Layers: a breadth-first walk over the immersion graph keeps a node on its neighbour's layer
-  // unless another copy of its cell is there already. Each layer is shifted down-right, so the
-  // sheets of the immersion come apart while glued copies mostly stay together; two immersions
-  // of one curve give different layers.
+  // unless another copy of its cell is there already. Each layer is drawn in its own panel, side
+  // by side, over a faint copy of the input, so the sheets of the immersion are seen apart while
+  // glued copies stay together; two immersions of one curve give different layers.
   const std::vector<int> layer = sheet_layers(immersion);
-  const double diagonal = std::hypot(xmax - xmin, ymax - ymin);
-  const double offset = 0.06 * diagonal;
-  int max_copy = 0;
-  for (int ref : mesh.reference) max_copy = std::max(max_copy, layer[static_cast<std::size_t>(ref)]);
-  xmax += max_copy * offset;
-  ymin -= max_copy * offset;
+  int layers = 1;
+  for (int ref : mesh.reference) layers = std::max(layers, layer[static_cast<std::size_t>(ref)] + 1);
+  const double panel = 1.08 * (xmax - xmin);
   const double width = 900.0;
   const double pad = 10.0;
-  const double scale = (width - 2 * pad) / std::max(xmax - xmin, 1e-300);
-  const double drawing_height = (ymax - ymin) * scale + 2 * pad;
+  const double title = 16.0;
+  const double scale = (width - 2 * pad) / std::max(panel * layers, 1e-300);
+  const double drawing_height = (ymax - ymin) * scale + 2 * pad + title;
   const double height = drawing_height + 14.0 * static_cast<double>(layout.node_count()) + pad;
   const auto sx = [&](double x) { return (x - xmin) * scale + pad; };
-  const auto sy = [&](double y) { return (ymax - y) * scale + pad; };
+  const auto sy = [&](double y) { return (ymax - y) * scale + pad + title; };
 
   std::ostringstream os;
   os << std::setprecision(6);
   os << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
      << "\" viewBox=\"0 0 " << width << ' ' << height << "\">\n";
   os << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  for (int k = 0; k < layers; ++k) {
+    const double shift = k * panel;
+    os << "<text x=\"" << sx(xmin + shift) << "\" y=\"" << pad + 10.0
+       << "\" font-family=\"sans-serif\" font-size=\"12\">layer " << k << "</text>\n";
+    for (const Curve& c : complex.curves.curves) {
+      os << "<polygon fill=\"none\" stroke=\"#999999\" stroke-width=\"0.8\" points=\"";
+      for (const Point& p : c.vertices) os << sx(p.x + shift) << ',' << sy(p.y) << ' ';
+      os << "\"/>\n";
+    }
+  }
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     const int node = mesh.reference[i];
-    const double shift = layer[static_cast<std::size_t>(node)] * offset;
+    const double shift = layer[static_cast<std::size_t>(node)] * panel;
     const std::string colour = node_colour(node);
-    os << "<polygon fill=\"" << colour << "\" fill-opacity=\"0.45\" stroke=\"" << colour
+    os << "<polygon fill=\"" << colour << "\" fill-opacity=\"0.55\" stroke=\"" << colour
        << "\" stroke-width=\"0.6\" points=\"";
     for (int v : mesh.triangles[i]) {
       const Point& p = mesh.vertices[v];
-      os << sx(p.x + shift) << ',' << sy(p.y - shift) << ' ';
+      os << sx(p.x + shift) << ',' << sy(p.y) << ' ';
     }
-    os << "\"/>\n";
-  }
-  for (const Curve& c : complex.curves.curves) {
-    os << "<polygon fill=\"none\" stroke=\"black\" stroke-width=\"1.5\" points=\"";
-    for (const Point& p : c.vertices) os << sx(p.x) << ',' << sy(p.y) << ' ';
     os << "\"/>\n";
   }
   for (NodeId n : ids<NodeId>(layout.node_count())) {

@@ -190,6 +190,22 @@ TEST_F(CliTest, LimaconIsNotImmersibleAndTheRuleIsNamed) {
   EXPECT_FALSE(exists("limacon.mesh"));
 }
 
+/// Coordinates the exact steps take but the double-precision background mesher cannot: a clear
+/// exit 2, never a crash (it used to end in a segmentation fault inside the mesher).
+TEST_F(CliTest, HugeAndTinyCoordinatesAreRefusedByTheMesherNotCrashed) {
+  write("huge.txt", "0 0\n1e300 0\n1e300 1e300\n0 1e300\n");
+  write("tiny.txt", "0 0\n1e-70 0\n1e-70 1e-70\n0 1e-70\n");
+  for (const char* file : {"huge.txt", "tiny.txt"}) {
+    SCOPED_TRACE(file);
+    EXPECT_EQ(run(std::string("immersions ") + file).code, 0);  // exact steps are fine
+    const Outcome r = run(std::string("mesh ") + file + " -o out.mesh");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_CONTAINS(r.output, "out-of-range");
+    EXPECT_CONTAINS(r.output, "--background");
+    EXPECT_FALSE(exists("out.mesh"));
+  }
+}
+
 TEST_F(CliTest, InvertedRegionExitsWithThree) {
   // A figure-eight: winding numbers +1 and -1 (paper §3, Fig. 8).
   write("eight.txt", sampled_curve(48, [](double t) {

@@ -814,8 +814,13 @@ TEST(Mesh2, OutputFormats) {
   EXPECT_EQ(w[0], r.embedding[0].weights[0]);
   const std::string svg = format_mesh_svg(*p.built.complex, p.search.immersions[0], r);
   EXPECT_NE(svg.find("<svg"), std::string::npos);
+  // One panel per sheet layer: a title and a faint copy of every curve, then one polygon per
+  // output triangle, one legend line per node, and the three lines of the frame.
+  std::size_t layers = 0;
+  for (std::size_t at = svg.find(">layer "); at != std::string::npos; at = svg.find(">layer ", at + 1)) ++layers;
+  EXPECT_GE(layers, 1u);
   EXPECT_EQ(static_cast<std::size_t>(std::count(svg.begin(), svg.end(), '\n')),
-            r.mesh.triangles.size() + p.curves.curves.size() +
+            r.mesh.triangles.size() + layers * (1 + p.curves.curves.size()) +
                 p.search.immersions[0].layout.node_count() + 3);
 }
 
