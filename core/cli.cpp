@@ -665,9 +665,8 @@ void print_no_immersion(Session& s, const Prepared& p, const SearchResult& r) {
       os << ": " << r.conflict.message;
       break;
     case ImmersionStatus::SelfConnectingCell:
-      os << "has no simple immersion (self-connecting cell";
-      if (!r.conflict.cells.empty()) os << " " << r.conflict.cells.front();
-      os << "): " << r.conflict.message;
+      // The search's message already says "no simple immersion exists" and names the cell.
+      os << "is not simply immersible: " << r.conflict.message;
       break;
     case ImmersionStatus::SearchBudgetExhausted:
       os << "could not be decided: " << r.conflict.message
