@@ -2,7 +2,7 @@
 // numbers, patches, arcs and junction order; paper §4.1–4.3) versus the number of input
 // vertices.
 //
-// Input: test::wobbly_circle(seed, n), two counter-clockwise turns around a circle with radial
+// Input: test_support::wobbly_circle(seed, n), two counter-clockwise turns around a circle with radial
 // noise, so the number of crossings (arcs) grows linearly with n. Built outside the timed loop.
 // The timed region is one build_complex call including the destruction of its result. The
 // first seed from kSeed on that gives a generic curve is used (reported as the `seed` counter).
@@ -23,7 +23,7 @@ void BM_BuildComplex2(benchmark::State& state) {
       kSeed, 32,
       [n](std::uint64_t seed) {
         dim2::CurveSet curves;
-        curves.curves.push_back(test::wobbly_circle(seed, n));
+        curves.curves.push_back(test_support::wobbly_circle(seed, n));
         return curves;
       },
       [](const dim2::Complex2&) { return true; });

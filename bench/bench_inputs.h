@@ -16,7 +16,7 @@ namespace imm::bench {
 /// Radius of the star-shaped disks (integer coordinates up to ~10^6 * sqrt(disks)).
 inline constexpr int kDiskRadius = 1'000'000;
 
-/// `disks` counter-clockwise star-shaped simple polygons (test::random_star_curve with one turn
+/// `disks` counter-clockwise star-shaped simple polygons (test_support::random_star_curve with one turn
 /// and no backtracking, `vertices` each, radius in [0.35, 1] kDiskRadius) whose centres lie on a
 /// square grid of pitch `pitch_percent`% of kDiskRadius with a seeded jitter of 0.2 kDiskRadius,
 /// so that each disk's jagged boundary crosses those of its (up to 8) grid neighbours.
@@ -35,7 +35,7 @@ inline dim2::CurveSet overlapping_disks(std::uint64_t seed, std::size_t disks, s
   dim2::CurveSet set;
   for (std::size_t k = 0; k < disks; ++k) {
     dim2::Curve disk =
-        test::random_star_curve(seed * 1009 + k, vertices, kDiskRadius, /*backtrack=*/0.0);
+        test_support::random_star_curve(seed * 1009 + k, vertices, kDiskRadius, /*backtrack=*/0.0);
     const double dx = static_cast<double>(static_cast<int>(k % columns) * pitch + jitter(rng));
     const double dy = static_cast<double>(static_cast<int>(k / columns) * pitch + jitter(rng));
     for (dim2::Point& p : disk.vertices) {

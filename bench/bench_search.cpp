@@ -7,7 +7,7 @@
 // and `states` against `arcs`.
 //
 // The complex is built outside the timed loop; the timed region is one find_immersions call.
-//  - BM_Search2Refute/turns/vertices: test::random_star_curve(seed, vertices, 10^6, backtrack 0,
+//  - BM_Search2Refute/turns/vertices: test_support::random_star_curve(seed, vertices, 10^6, backtrack 0,
 //    turns) with turns = 2, 3. The angle is monotone, so the curve has turning number `turns` and
 //    bounds no immersed surface (a connected immersed surface with one boundary curve has Euler
 //    characteristic 1 - 2g = turning number <= 1): the search must prove NotImmersible.
@@ -88,7 +88,7 @@ BuiltInput star_input(int turns, std::size_t vertices) {
       kStarSeed, 64,
       [&](std::uint64_t seed) {
         dim2::CurveSet curves;
-        curves.curves.push_back(test::random_star_curve(seed, vertices, kDiskRadius, 0.0, turns));
+        curves.curves.push_back(test_support::random_star_curve(seed, vertices, kDiskRadius, 0.0, turns));
         return curves;
       },
       [](const dim2::Complex2&) { return true; });

@@ -40,14 +40,14 @@ const Defect* find_kind(const ValidationReport& report, DefectKind kind) {
 double angle_of(const Point& from, const Point& to) { return std::atan2(to.y - from.y, to.x - from.x); }
 
 /// Every exact invariant of a built complex, against independent facts about the input.
-void check_complex(const CurveSet& curves, const Complex2& built, const test::CrossingFacts& facts) {
+void check_complex(const CurveSet& curves, const Complex2& built, const test_support::CrossingFacts& facts) {
   const CellComplex<2>& cx = built.complex;
   const int sign = built.reversed ? -1 : 1;
 
   // DESIGN §4 invariant 1: sum of w * area over regions == enclosed signed area, exactly.
   Rational weighted = 0;
   for (RegionId r : ids<RegionId>(cx.region_count())) weighted += cx.winding_number(r) * cx.measure(r);
-  EXPECT_EQ(weighted, sign * test::signed_area(curves));
+  EXPECT_EQ(weighted, sign * test_support::signed_area(curves));
 
   ASSERT_GE(cx.region_count(), 2u);
   EXPECT_EQ(cx.winding_number(kOutsideRegion), 0);
@@ -60,8 +60,8 @@ void check_complex(const CurveSet& curves, const Complex2& built, const test::Cr
     if (cx.winding_number(r) != 0) ++nonzero;
     // The sample point lies in the region: its winding number, computed independently, matches.
     const Point sample = built.region_sample[r];
-    ASSERT_FALSE(test::on_curves(curves, sample)) << "region " << r << " sample " << format_point(sample);
-    EXPECT_EQ(sign * test::winding_number(curves, sample), cx.winding_number(r))
+    ASSERT_FALSE(test_support::on_curves(curves, sample)) << "region " << r << " sample " << format_point(sample);
+    EXPECT_EQ(sign * test_support::winding_number(curves, sample), cx.winding_number(r))
         << "region " << r << " sample " << format_point(sample);
   }
   EXPECT_EQ(cx.cell_count(), nonzero);
@@ -84,7 +84,7 @@ void check_complex(const CurveSet& curves, const Complex2& built, const test::Cr
   EXPECT_EQ(built.arrangement_edges, n + 2 * x);
   EXPECT_EQ(built.arrangement_faces, cx.region_count());
   EXPECT_EQ(static_cast<long>(cx.region_count()),
-            1 + static_cast<long>(test::curve_components(curves, facts)) + static_cast<long>(x));
+            1 + static_cast<long>(test_support::curve_components(curves, facts)) + static_cast<long>(x));
   std::size_t cut_pieces = 0;
   for (PatchId p : ids<PatchId>(cx.patch_count())) cut_pieces += built.patch_polyline[p].size() - 1;
   EXPECT_EQ(cut_pieces, built.arrangement_edges);
@@ -150,14 +150,14 @@ struct Outcome {
 /// Builds, checks the genericity verdict against the brute-force scan and, when built, every
 /// invariant. Inversions are checked through their sample point.
 Outcome build_and_check(const CurveSet& curves) {
-  const test::CrossingFacts facts = test::crossing_facts(curves);
+  const test_support::CrossingFacts facts = test_support::crossing_facts(curves);
   BuildResult r = build_complex(curves);
   EXPECT_EQ(r.report.ok(), facts.generic) << r.report.summary();
   if (!r.report.ok()) return {Outcome::Defective, std::move(r)};
   if (r.inversion) {
     EXPECT_LT(r.inversion->winding_number, 0);
-    EXPECT_FALSE(test::on_curves(curves, r.inversion->sample));
-    EXPECT_EQ(test::winding_number(curves, r.inversion->sample), r.inversion->winding_number)
+    EXPECT_FALSE(test_support::on_curves(curves, r.inversion->sample));
+    EXPECT_EQ(test_support::winding_number(curves, r.inversion->sample), r.inversion->winding_number)
         << r.inversion->message;
     EXPECT_EQ(r.complex, nullptr);
     return {Outcome::Inverted, std::move(r)};
@@ -252,7 +252,7 @@ TEST(Complex2Known, ClockwiseSquareIsReversed) {
   EXPECT_EQ(c.complex.measure(c.complex.region_of(CellId(0))), Rational(100));
   // The complex's curves are the reversed input, first vertex kept: counter-clockwise again.
   EXPECT_EQ(c.curves.curves.at(0).vertices, (std::vector<Point>{{0, 10}, {0, 0}, {10, 0}, {10, 10}}));
-  EXPECT_EQ(test::signed_area(c.curves), Rational(100));
+  EXPECT_EQ(test_support::signed_area(c.curves), Rational(100));
   EXPECT_EQ(c.complex.sides(PatchId(0)).negative, c.complex.region_of(CellId(0)));
 }
 
@@ -367,7 +367,7 @@ TEST(Complex2Defects, CollinearOverlap) {
   ASSERT_NE(d, nullptr) << r.report.summary();
   EXPECT_EQ(d->message, "curves 0 and 1: segments 0 and 4 overlap collinearly from (2, 0) to (8, 0)");
   EXPECT_EQ(d->facets, (std::vector<long>{0, 4}));
-  EXPECT_FALSE(test::crossing_facts(set).generic);
+  EXPECT_FALSE(test_support::crossing_facts(set).generic);
 }
 
 TEST(Complex2Defects, SelfOverlapWithinOneCurve) {
@@ -407,7 +407,7 @@ TEST(Complex2Defects, ThreeSegmentsThroughOnePoint) {
   ASSERT_NE(d, nullptr) << r.report.summary();
   EXPECT_EQ(d->message, "curves 0, 1 and 2: segments 0, 3 and 6 all pass through (0, 0) (3 sheets meet at one point)");
   EXPECT_EQ(d->facets, (std::vector<long>{0, 3, 6}));
-  EXPECT_FALSE(test::crossing_facts(set).generic);
+  EXPECT_FALSE(test_support::crossing_facts(set).generic);
 }
 
 TEST(Complex2Defects, EveryDefectIsReported) {
@@ -436,7 +436,7 @@ TEST(Complex2Random, InvariantsOnSeededCurves) {
     const std::size_t vertices = 6 + seed % 29;
     const int turns = 1 + static_cast<int>(seed % 3);
     const double backtrack = (seed / 3) % 3 == 0 ? 0.0 : 0.4 * static_cast<double>((seed / 3) % 3);
-    const CurveSet set = single(test::random_star_curve(seed, vertices, 150, backtrack, turns));
+    const CurveSet set = single(test_support::random_star_curve(seed, vertices, 150, backtrack, turns));
     const Outcome o = build_and_check(set);
     if (o.kind == Outcome::Built) {
       ++built;
@@ -457,7 +457,7 @@ TEST(Complex2Random, UniformRandomPolygons) {
   std::size_t built = 0, inverted = 0, defective = 0;
   for (std::uint64_t seed = 0; seed < 150; ++seed) {
     SCOPED_TRACE(testing::Message() << "seed=" << seed);
-    const CurveSet set = single(test::random_polygon(seed, 4 + seed % 9, seed % 2 == 0 ? 12 : 1000));
+    const CurveSet set = single(test_support::random_polygon(seed, 4 + seed % 9, seed % 2 == 0 ? 12 : 1000));
     const Outcome o = build_and_check(set);
     built += o.kind == Outcome::Built;
     inverted += o.kind == Outcome::Inverted;
@@ -479,7 +479,7 @@ TEST(Complex2Random, MultiComponentSets) {
     CurveSet set;
     const std::size_t count = 2 + seed % 3;
     for (std::size_t k = 0; k < count; ++k) {
-      Curve c = test::random_star_curve(seed * 7 + k, 5 + (seed + k) % 12, 60, 0.0, 1 + static_cast<int>(k % 2));
+      Curve c = test_support::random_star_curve(seed * 7 + k, 5 + (seed + k) % 12, 60, 0.0, 1 + static_cast<int>(k % 2));
       const double dx = static_cast<double>(static_cast<int>(rng() % 161) - 80);
       const double dy = static_cast<double>(static_cast<int>(rng() % 161) - 80);
       for (Point& p : c.vertices) p = {p.x + dx, p.y + dy};
@@ -511,8 +511,8 @@ TEST(Complex2Metamorphic, MotionsShiftsAndShuffles) {
   for (std::uint64_t seed = 0; seed < 40; ++seed) {
     SCOPED_TRACE(testing::Message() << "seed=" << seed);
     CurveSet set;
-    set.curves.push_back(test::random_star_curve(seed, 8 + seed % 15, 60, 0.0, 1 + static_cast<int>(seed % 3), /*step=*/5));
-    set.curves.push_back(test::random_star_curve(seed + 1000, 6 + seed % 7, 40, 0.0, 1, /*step=*/5));
+    set.curves.push_back(test_support::random_star_curve(seed, 8 + seed % 15, 60, 0.0, 1 + static_cast<int>(seed % 3), /*step=*/5));
+    set.curves.push_back(test_support::random_star_curve(seed + 1000, 6 + seed % 7, 40, 0.0, 1, /*step=*/5));
     for (Point& p : set.curves[1].vertices) p = {p.x + 100, p.y - 35};
     const BuildResult base = build_complex(set);
     if (!base.report.ok() || base.inversion) continue;
@@ -578,7 +578,7 @@ TEST(Complex2Real, SourcesTable) {
     SCOPED_TRACE(rc.file);
     const ReadResult read = read_curves((dir / rc.file).string());
     ASSERT_TRUE(read.report.ok()) << read.report.summary();
-    const test::CrossingFacts facts = test::crossing_facts(read.curves);
+    const test_support::CrossingFacts facts = test_support::crossing_facts(read.curves);
     EXPECT_EQ(facts.proper_crossings, rc.crossings);
     const Outcome o = build_and_check(read.curves);
     switch (rc.verdict) {

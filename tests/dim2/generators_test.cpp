@@ -43,7 +43,7 @@ Built build(const CurveSet& curves) {
   // The independent brute-force scan of tests/support agrees on genericity and crossings (it
   // takes rationals everywhere, ~1 s per 1000 vertices: only on the smaller inputs).
   if (curves.vertex_count() <= 600) {
-    const test::CrossingFacts facts = test::crossing_facts(curves);
+    const test_support::CrossingFacts facts = test_support::crossing_facts(curves);
     EXPECT_TRUE(facts.generic);
     EXPECT_EQ(facts.proper_crossings, generic.crossings);
   }
@@ -56,7 +56,7 @@ Built build(const CurveSet& curves) {
     Rational sum = 0;
     for (CellId c : ids<CellId>(cc.cell_count()))
       sum += cc.winding_number(c) * cc.measure(cc.region_of(c));
-    const Rational area = test::signed_area(curves);
+    const Rational area = test_support::signed_area(curves);
     EXPECT_EQ(sum, result.complex->reversed ? Rational(-area) : area);
     EXPECT_EQ(cc.arc_count(), generic.crossings);
   }
@@ -370,7 +370,7 @@ TEST(Generators, Fig7HoleIsBoundedByBothComponents) {
     if (r != kOutsideRegion && cc.winding_number(r) == 0) holes.push_back(r);
   }
   ASSERT_EQ(holes.size(), 1u);
-  const test::CrossingFacts facts = test::crossing_facts(b.curves);
+  const test_support::CrossingFacts facts = test_support::crossing_facts(b.curves);
   ASSERT_EQ(facts.crossing_curves.size(), 1u);  // the two components cross each other
   EXPECT_EQ(facts.crossings_per_curve, (std::vector<std::size_t>{4, 4}));
   std::size_t hole_patches = 0;

@@ -101,7 +101,7 @@ TEST(Immersion2Random, SeededSingleCurves) {
   for (std::uint64_t seed = 0; seed < 320; ++seed) {
     const int turns = seed % 4 == 3 ? 2 : 1;
     CurveSet curves;
-    curves.curves.push_back(test::random_star_curve(seed, 9 + seed % 6, 1000, 0.8, turns));
+    curves.curves.push_back(test_support::random_star_curve(seed, 9 + seed % 6, 1000, 0.8, turns));
     run_seeded_curve(curves, seed, tally);
   }
   std::cout << "built " << tally.built << ", immersible " << tally.immersible << ", several immersions "
@@ -115,8 +115,8 @@ TEST(Immersion2Random, SeededMultiComponentSets) {
   Tally tally;
   for (std::uint64_t seed = 1000; seed < 1200; ++seed) {
     CurveSet curves;
-    curves.curves.push_back(test::random_star_curve(seed, 7 + seed % 4, 1000, 0.3, 1));
-    curves.curves.push_back(test::random_star_curve(seed * 7 + 1, 6 + seed % 3, 700, 0.3, 1));
+    curves.curves.push_back(test_support::random_star_curve(seed, 7 + seed % 4, 1000, 0.3, 1));
+    curves.curves.push_back(test_support::random_star_curve(seed * 7 + 1, 6 + seed % 3, 700, 0.3, 1));
     run_seeded_curve(curves, seed, tally);
   }
   std::cout << "built " << tally.built << ", immersible " << tally.immersible << ", several immersions "
@@ -130,7 +130,7 @@ TEST(Immersion2Metamorphic, DisjointCopyMultipliesTheCount) {
   int checked = 0;
   for (std::uint64_t seed = 0; seed < 200 && checked < 25; ++seed) {
     CurveSet one;
-    one.curves.push_back(test::random_star_curve(seed, 10 + seed % 4, 1000, 0.8, seed % 2 ? 2 : 1));
+    one.curves.push_back(test_support::random_star_curve(seed, 10 + seed % 4, 1000, 0.8, seed % 2 ? 2 : 1));
     const BuildResult a = build_complex(one);
     if (!a.report.ok() || a.inversion) continue;
     const std::size_t k = search_all(a.complex->complex).immersions.size();
@@ -165,7 +165,7 @@ CurveSet overlapping_disks(std::uint64_t seed, std::size_t disks, std::size_t ve
   const int pitch = kRadius / 100 * pitch_percent;
   CurveSet set;
   for (std::size_t k = 0; k < disks; ++k) {
-    Curve disk = test::random_star_curve(seed * 1009 + k, vertices, kRadius, /*backtrack=*/0.0);
+    Curve disk = test_support::random_star_curve(seed * 1009 + k, vertices, kRadius, /*backtrack=*/0.0);
     const double dx = static_cast<double>(static_cast<int>(k % columns) * pitch + jitter(rng));
     const double dy = static_cast<double>(static_cast<int>(k / columns) * pitch + jitter(rng));
     for (Point& p : disk.vertices) {

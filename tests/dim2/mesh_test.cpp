@@ -175,7 +175,7 @@ void expect_coverage(const Prepared& p, const Immersion& immersion, const MeshRe
     // outside only): the other invariants check them.
     if (meets_input(tri, segments)) continue;
     // Closed triangle off the input: its vertex has the winding number of its interior.
-    const int w = std::abs(test::winding_number(p.curves, tri[0]));
+    const int w = std::abs(test_support::winding_number(p.curves, tri[0]));
     ASSERT_EQ(copies[t].size(), static_cast<std::size_t>(w)) << "background triangle " << t;
     std::set<int> nodes(copies[t].begin(), copies[t].end());
     EXPECT_EQ(nodes.size(), copies[t].size()) << "two copies of one node in triangle " << t;
@@ -593,7 +593,7 @@ TEST(Mesh2, RandomStarCurves) {
   for (std::uint64_t seed = 0; seed < 20; ++seed) {
     SCOPED_TRACE(testing::Message() << "seed=" << seed);
     CurveSet curves;
-    curves.curves.push_back(test::random_star_curve(seed, 14, 1000, 0.8));
+    curves.curves.push_back(test_support::random_star_curve(seed, 14, 1000, 0.8));
     const Prepared p = prepare(curves);
     if (!p.built.report.ok() || p.built.inversion || p.search.status != ImmersionStatus::Immersible)
       continue;

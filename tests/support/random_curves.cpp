@@ -5,7 +5,7 @@
 #include <numeric>
 #include <random>
 
-namespace imm::test {
+namespace imm::test_support {
 
 using dim2::Curve;
 using dim2::CurveSet;
@@ -215,4 +215,4 @@ std::size_t curve_components(const CurveSet& curves, const CrossingFacts& facts)
   return components;
 }
 
-}  // namespace imm::test
+}  // namespace imm::test_support

@@ -11,7 +11,7 @@
 #include "core/rational.h"
 #include "dim2/curves.h"
 
-namespace imm::test {
+namespace imm::test_support {
 
 // ---- generators (every random choice takes an explicit seed) ------------------------------
 
@@ -62,4 +62,4 @@ bool on_curves(const dim2::CurveSet& curves, const dim2::Point& p);
 /// Number of connected components of the union of the curves (curves joined by crossings).
 std::size_t curve_components(const dim2::CurveSet& curves, const CrossingFacts& facts);
 
-}  // namespace imm::test
+}  // namespace imm::test_support
