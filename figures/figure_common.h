@@ -3,6 +3,7 @@
 // reproduced fact differs from the paper's. Each fig_NN_<slug>.cpp states its paper item.
 #pragma once
 
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
