@@ -65,7 +65,15 @@ struct Box {
   double xmin, ymin, xmax, ymax;
 };
 
-Box enlarged_input_box(const Complex2& complex, double& diagonal) {
+/// The input's bounding box enlarged by 5% of its diagonal on every side, with the facts the
+/// range check of generate_background needs.
+struct InputExtent {
+  Box enlarged;
+  double diagonal = 0.0;
+  double largest = 0.0;  ///< largest absolute input coordinate
+};
+
+InputExtent input_extent(const Complex2& complex) {
   Box box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
           -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (const Curve& curve : complex.curves.curves) {
@@ -76,9 +84,12 @@ Box enlarged_input_box(const Complex2& complex, double& diagonal) {
       box.ymax = std::max(box.ymax, p.y);
     }
   }
-  diagonal = std::hypot(box.xmax - box.xmin, box.ymax - box.ymin);
-  const double margin = 0.05 * diagonal;
-  return {box.xmin - margin, box.ymin - margin, box.xmax + margin, box.ymax + margin};
+  InputExtent extent;
+  extent.diagonal = std::hypot(box.xmax - box.xmin, box.ymax - box.ymin);
+  extent.largest = std::max({std::abs(box.xmin), std::abs(box.ymin), std::abs(box.xmax), std::abs(box.ymax)});
+  const double margin = 0.05 * extent.diagonal;
+  extent.enlarged = {box.xmin - margin, box.ymin - margin, box.xmax + margin, box.ymax + margin};
+  return extent;
 }
 
 /// Inserts the box as constraints (so that the mesher splits its sides), seeds a triangular
@@ -137,11 +148,27 @@ void extract(Cdt& cdt, detail::Background& out, ToPoint&& store_vertex) {
     out.triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
 }
 
-detail::Background generate_background(const Complex2& complex, const MeshOptions& options) {
+detail::Background generate_background(const Complex2& complex, const MeshOptions& options,
+                                       ValidationReport& report) {
   IMM_ASSERT(options.resolution >= 1, "mesh resolution must be at least 1");
-  double diagonal = 0.0;
-  const Box box = enlarged_input_box(complex, diagonal);
-  const double size_bound = diagonal / options.resolution;
+  const InputExtent extent = input_extent(complex);
+  // The generated background is a double-precision Delaunay mesh: its predicates are exact, but
+  // the mesher's constructions (squared lengths, circumcentres) overflow or underflow far from
+  // unit scale and CGAL then fails inside the mesher. Refuse such inputs with a clear message;
+  // the exact steps (complex, search, clipping against a given --background) have no such limit.
+  constexpr double kMaxCoordinate = 1e75;
+  constexpr double kMinDiagonal = 1e-60;
+  if (!(extent.largest <= kMaxCoordinate) || !(extent.diagonal >= kMinDiagonal)) {
+    std::ostringstream msg;
+    msg << "cannot generate a background mesh: the input's largest coordinate is " << extent.largest
+        << " and its bounding-box diagonal " << extent.diagonal << "; the double-precision mesher "
+        << "needs coordinates up to " << kMaxCoordinate << " and a diagonal of at least "
+        << kMinDiagonal << " (scale the input, or pass --background)";
+    report.add({DefectKind::OutOfRange, "mesh", msg.str(), {}, {}, {}});
+    return {};
+  }
+  const Box& box = extent.enlarged;
+  const double size_bound = extent.diagonal / options.resolution;
   detail::Background out;
   if (!options.conforming) {
     using Types = MesherTypes<Epick>;
@@ -317,29 +344,8 @@ Background make_background(const Complex2& complex, const MeshOptions& options,
     out.triangles = std::move(mesh.triangles);
     return out;
   }
-  // The generated background is a double-precision Delaunay mesh: its predicates are exact, but
-  // the mesher's constructions (squared lengths, circumcentres) overflow or underflow far from
-  // unit scale and CGAL then fails inside the mesher. Refuse such inputs with a clear message;
-  // the exact steps (complex, search, clipping against a given --background) have no such limit.
-  constexpr double kMaxCoordinate = 1e75;
-  constexpr double kMinDiagonal = 1e-60;
-  double diagonal = 0.0;
-  double largest = 0.0;
-  enlarged_input_box(complex, diagonal);
-  for (const Curve& curve : complex.curves.curves) {
-    for (const Point& p : curve.vertices) largest = std::max({largest, std::abs(p.x), std::abs(p.y)});
-  }
-  if (!(largest <= kMaxCoordinate) || !(diagonal >= kMinDiagonal)) {
-    std::ostringstream msg;
-    msg << "cannot generate a background mesh: the input's largest coordinate is " << largest
-        << " and its bounding-box diagonal " << diagonal << "; the double-precision mesher needs "
-        << "coordinates up to " << kMaxCoordinate << " and a diagonal of at least " << kMinDiagonal
-        << " (scale the input, or pass --background)";
-    report.add({DefectKind::OutOfRange, "mesh", msg.str(), {}, {}, {}});
-    return {};
-  }
   if (options.progress) options.progress("meshing: background triangulation");
-  return generate_background(complex, options);
+  return generate_background(complex, options, report);
 }
 
 }  // namespace detail
