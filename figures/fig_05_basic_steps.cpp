@@ -18,12 +18,7 @@ int main(int argc, char** argv) {
     const Immersion& im = run.search.immersions.front();
     figures::write(args, "fig5_cells.svg", dim2::format_complex_svg(complex, {.title = "Fig. 5: cells, patches, arcs"}));
     figures::write(args, "fig5_immersion.svg", dim2::format_immersion_svg(complex, im, {.title = "Fig. 5: immersion"}));
-    dim2::MeshOptions options;
-    options.resolution = args.quick ? 12 : 40;
-    const dim2::MeshResult mesh = dim2::mesh_immersion(complex, im, options);
-    figures::expect(mesh.report.ok(), mesh.report.summary());
-    figures::write(args, "fig5_mesh.svg", dim2::format_mesh_svg(complex, im, mesh));
-    figures::write(args, "fig5_mesh.mesh", dim2::format_medit_2d(mesh.mesh));
+    const dim2::MeshResult mesh = figures::mesh_and_write(args, complex, im, args.quick ? 12 : 40, "fig5_mesh");
     std::ostringstream md;
     md << "# Fig. 5\n\ncells " << cx.cell_count() << ", patches " << cx.patch_count() << ", arcs "
        << cx.arc_count() << ", immersions 1 (" << im.layout.node_count() << " nodes, " << im.edges.size()

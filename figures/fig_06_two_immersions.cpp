@@ -21,12 +21,8 @@ int main(int argc, char** argv) {
       const std::string title = "Fig. 6: immersion " + std::to_string(k);
       figures::write(args, "fig6_immersion_" + std::to_string(k) + ".svg",
                      dim2::format_immersion_svg(complex, im, {.title = title}));
-      dim2::MeshOptions mesh_options;
-      mesh_options.resolution = args.quick ? 12 : 48;
-      const dim2::MeshResult mesh = dim2::mesh_immersion(complex, im, mesh_options);
-      figures::expect(mesh.report.ok(), mesh.report.summary());
-      figures::write(args, "fig6_mesh_" + std::to_string(k) + ".svg", dim2::format_mesh_svg(complex, im, mesh));
-      figures::write(args, "fig6_mesh_" + std::to_string(k) + ".mesh", dim2::format_medit_2d(mesh.mesh));
+      const dim2::MeshResult mesh =
+          figures::mesh_and_write(args, complex, im, args.quick ? 12 : 48, "fig6_mesh_" + std::to_string(k));
       md << "| " << k << " | " << im.layout.node_count() << " | " << im.edges.size() << " | "
          << im.components().size() << " | " << mesh.mesh.triangles.size() << " |\n";
     }

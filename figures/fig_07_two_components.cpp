@@ -14,12 +14,7 @@ int main(int argc, char** argv) {
     figures::expect(im.components().size() == 2, "the immersion is two overlapping disks");
     figures::write(args, "fig7_input.svg", dim2::format_complex_svg(complex, {.title = "Fig. 7: input and cells"}));
     figures::write(args, "fig7_immersion.svg", dim2::format_immersion_svg(complex, im, {.title = "Fig. 7: immersion"}));
-    dim2::MeshOptions options;
-    options.resolution = args.quick ? 16 : 64;
-    const dim2::MeshResult mesh = dim2::mesh_immersion(complex, im, options);
-    figures::expect(mesh.report.ok(), mesh.report.summary());
-    figures::write(args, "fig7_mesh.svg", dim2::format_mesh_svg(complex, im, mesh));
-    figures::write(args, "fig7_mesh.mesh", dim2::format_medit_2d(mesh.mesh));
+    const dim2::MeshResult mesh = figures::mesh_and_write(args, complex, im, args.quick ? 16 : 64, "fig7_mesh");
     figures::write(args, "fig7_mesh.emb", dim2::format_embedding(mesh.embedding));
     std::ostringstream md;
     md << "# Fig. 7\n\ncells " << complex.complex.cell_count() << ", patches " << complex.complex.patch_count()

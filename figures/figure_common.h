@@ -76,6 +76,20 @@ inline CurveRun run_curve(const std::string& generator, const std::vector<std::s
   return run;
 }
 
+/// Meshes one immersion at `resolution` (fails the figure on any defect) and writes the mesh
+/// pulled apart as `<stem>.svg` and the Medit file `<stem>.mesh`.
+inline dim2::MeshResult mesh_and_write(const FigureArgs& args, const dim2::Complex2& complex,
+                                       const Immersion& immersion, int resolution,
+                                       const std::string& stem) {
+  dim2::MeshOptions options;
+  options.resolution = resolution;
+  dim2::MeshResult mesh = dim2::mesh_immersion(complex, immersion, options);
+  expect(mesh.report.ok(), mesh.report.summary());
+  write(args, stem + ".svg", dim2::format_mesh_svg(complex, immersion, mesh));
+  write(args, stem + ".mesh", dim2::format_medit_2d(mesh.mesh));
+  return mesh;
+}
+
 /// Runs a figure's body, mapping failures to exit code 1 with the reason.
 template <class Body>
 int main_guard(Body&& body) {
