@@ -1,0 +1,113 @@
+// The exact 3D cell complex (paper §4 with d = 3) and the geometry downstream steps need.
+// CGAL-free facade: the exact cut geometry sits behind `CutMesh` (dim3/cut_mesh.h, CGAL inside).
+//
+// How it is built (dim3/refine.cpp, dim3/complex3.cpp):
+//  1. candidate triangle pairs from CGAL box_intersection_d; every pair is classified with exact
+//     orientation predicates on the input doubles (CGAL Epick predicates are exact): a generic
+//     intersection is a segment whose two ends are each an input edge crossing the interior of
+//     the other triangle. Anything else that touches (a vertex on a triangle, two edges meeting,
+//     coplanar overlap, an intersection curve through a vertex) is a defect (exit 2).
+//  2. per cut triangle: the intersection segments in its plane (Epeck constructions), their
+//     crossings (triple points), and a constrained triangulation of the triangle with them;
+//     every intersection point has a symbolic key (input edge x input triangle, or three input
+//     triangles), so the sheets agree on it without comparing coordinates.
+//  3. patches = connected sub-triangles across uncut edges; arcs = chains of cut edges between
+//     triple points (or closed loops), counted once geometrically; at each arc the cyclic order
+//     of the four junctions follows from the two sheets' normals (exact signs only).
+//  4. regions: patch sides glued through the wedges of every arc give the regions of each
+//     connected group of sheets; groups nested inside one another are placed by exact ray
+//     casting; winding numbers follow from "+1 across a patch against its normal".
+#pragma once
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/cell_complex.h"
+#include "dim3/surface.h"
+
+namespace imm::dim3 {
+
+struct CutMesh;  // exact cut geometry, dim3/cut_mesh.h
+
+/// Axis-aligned box in doubles (display and helper-box placement only).
+struct Box3 {
+  Point3 lo{0, 0, 0};
+  Point3 hi{0, 0, 0};
+};
+
+/// The 3D cell complex with its geometry.
+struct Complex3 {
+  CellComplex<3> complex;
+  /// The input as the complex sees it: every triangle flipped (v0, v2, v1) when the input was
+  /// inside-out (all winding numbers <= 0). Vertex and triangle ids are the file's.
+  Surface surface;
+  bool reversed = false;
+
+  // ---- the cut mesh in doubles (output and display; never used for decisions) ----
+  /// Per-sheet vertices: an intersection point is one vertex per sheet through it (2, or 3 at a
+  /// triple point); `cut_point[v]` is its geometric point (the stitch map).
+  std::vector<Point3> cut_vertices;
+  std::vector<std::uint32_t> cut_point;
+  std::vector<Triangle> cut_triangles;               ///< oriented like their input triangle
+  std::vector<std::uint32_t> cut_triangle_source;    ///< input triangle of each cut triangle
+  std::vector<PatchId> cut_triangle_patch;
+  /// Per arc, its geometric points in order along the arc (closed loops repeat the first).
+  IdMap<ArcId, std::vector<std::uint32_t>> arc_points;
+  std::vector<Point3> points;                        ///< geometric points (rounded)
+  IdMap<RegionId, Box3> region_box;                  ///< bounding box of each region's boundary
+  IdMap<PatchId, std::size_t> patch_triangle_count;
+  IdMap<RegionId, int> region_genus;                 ///< total genus of the region's boundary
+  /// True when complex.measure() holds exact volumes (BuildOptions3::exact_volumes); false when
+  /// it holds the volumes computed in doubles.
+  bool exact_volumes = true;
+
+  // ---- counts for reports ----
+  std::size_t intersecting_pairs = 0;   ///< input triangle pairs that cross
+  std::size_t intersection_points = 0;  ///< edge-triangle crossing points (geometric)
+  std::size_t triple_points = 0;
+  std::size_t cut_edges = 0;            ///< geometric cut edges (each once, not per sheet)
+  std::size_t components = 0;           ///< connected components of the input surface
+  std::size_t groups = 0;               ///< connected groups of mutually intersecting components
+
+  std::shared_ptr<const CutMesh> exact;
+};
+
+/// A region with negative winding number (or mixed signs): the input folds or inverts space
+/// (paper §3, Fig. 8): valid input, not immersible, exit 3.
+struct Inversion3 {
+  RegionId region;
+  int winding_number = 0;
+  std::vector<long> triangles;  ///< some input triangles bounding the region
+  std::string message;
+};
+
+struct BuildOptions3 {
+  LogCallback progress;  ///< coarse progress messages (stage names, counts)
+  /// Exact rational volumes (GMP) for every region. They are inherently large numbers (their
+  /// denominators multiply those of every intersection point on the region's boundary) and cost
+  /// more than the rest of the complex on inputs with thousands of intersection points; the
+  /// search does not read them. When false, every measure is the volume computed in doubles
+  /// (converted exactly to a Rational) and Complex3::exact_volumes is false.
+  bool exact_volumes = true;
+  /// Threads for the per-triangle triangulations (0 = all cores). The result is the same for
+  /// every value.
+  unsigned threads = 0;
+};
+
+struct BuildResult3 {
+  ValidationReport report;               ///< non-empty: invalid input (exit 2)
+  std::optional<Inversion3> inversion;   ///< set: valid input, not immersible (exit 3)
+  std::shared_ptr<Complex3> complex;     ///< set when the complex was built
+  double seconds = 0.0;
+};
+
+/// Validates (validate_surface), intersects exactly, and builds the complex. Paper §4.1–4.3.
+BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options = {});
+
+/// The cut mesh as OBJ, one group `patch_K` per patch (per-sheet vertices), for viewers.
+std::string format_cut_mesh_obj(const Complex3& c3);
+
+}  // namespace imm::dim3
