@@ -1,6 +1,7 @@
 // The 3D cell complex from the exact cut mesh (dim3/complex3.h): patches, arcs with their cyclic
 // junction order, regions with winding numbers (nesting decided by exact ray casting), exact
 // volumes and the genus of every region's boundary.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Mpzf.h>
 
 #include <algorithm>
@@ -100,78 +101,97 @@ std::vector<ArcChain> chain_arcs(const CutMesh& m) {
   return arcs;
 }
 
-/// A ray from `from` to `to`, intersected with the input triangles in `triangles`: the patch
-/// side seen first from `from`, or nothing when the ray is degenerate (hits an edge, a vertex or
-/// an intersection curve, or runs in a plane) and another target should be tried.
+/// A segment from `from` through `through` to beyond `box`, intersected with the input triangles
+/// in `triangles`. Exact: the classification uses Epick predicates on the input doubles (the
+/// segment's ends are doubles too), the few hits are ordered with Epeck constructions.
 struct RayHit {
-  std::uint32_t sub_triangle = kNone;
+  std::uint32_t sub_triangle = 0;
   bool from_positive_side = false;
+};
+struct RayResult {
+  enum class Kind { Degenerate, Miss, Hit } kind = Kind::Degenerate;
+  RayHit hit;
 };
 
 class RayCaster {
  public:
+  using IK = CGAL::Exact_predicates_inexact_constructions_kernel;
+
   RayCaster(const Surface& s, const CutMesh& m) : s_(s), m_(m) {}
 
-  /// @param target_triangle the input triangle `to` lies on (kNone when `to` is elsewhere).
-  std::optional<RayHit> cast(const EK::Point_3& from, const EK::Point_3& to, std::uint32_t target_triangle,
-                             const std::vector<std::uint32_t>& triangles) const {
-    std::uint32_t best = kNone;
-    EK::Point_3 best_point;
-    bool tie = false;
-    bool best_positive = false;
-    for (std::uint32_t x : triangles) {
-      const EK::Point_3 &a = P(x, 0), &b = P(x, 1), &c = P(x, 2);
-      const CGAL::Orientation s0 = CGAL::orientation(a, b, c, from);
-      EK::Point_3 hit;
-      if (x == target_triangle) {
-        hit = to;
-      } else {
-        const CGAL::Orientation s1 = CGAL::orientation(a, b, c, to);
-        if (s1 == CGAL::COPLANAR) {
-          if (CGAL::do_intersect(EK::Triangle_3(a, b, c), to)) return std::nullopt;
-          continue;
-        }
-        if (s0 == CGAL::COPLANAR || s0 == s1) continue;
-        const CGAL::Orientation o0 = CGAL::orientation(from, to, a, b);
-        const CGAL::Orientation o1 = CGAL::orientation(from, to, b, c);
-        const CGAL::Orientation o2 = CGAL::orientation(from, to, c, a);
-        const bool pos = o0 == CGAL::POSITIVE || o1 == CGAL::POSITIVE || o2 == CGAL::POSITIVE;
-        const bool neg = o0 == CGAL::NEGATIVE || o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE;
-        if (pos && neg) continue;
-        if (o0 == CGAL::COLLINEAR || o1 == CGAL::COLLINEAR || o2 == CGAL::COLLINEAR) return std::nullopt;
-        const auto r = CGAL::intersection(EK::Line_3(from, to), EK::Plane_3(a, b, c));
-        const EK::Point_3* p = r ? boost::get<EK::Point_3>(&*r) : nullptr;
-        if (!p) return std::nullopt;
-        hit = *p;
-      }
-      if (s0 == CGAL::COPLANAR) return std::nullopt;
-      if (best != kNone) {
-        const CGAL::Comparison_result cmp = CGAL::compare_distance_to_point(from, hit, best_point);
-        if (cmp == CGAL::LARGER) continue;
-        tie = cmp == CGAL::EQUAL;
-        if (tie) continue;
-      }
-      best = x;
-      best_point = hit;
-      best_positive = s0 == CGAL::POSITIVE;
+  RayResult cast(const Point3& from_d, const Point3& through, const Box3& box,
+                 const std::vector<std::uint32_t>& triangles) const {
+    // Far enough along the ray to leave the box.
+    double span = 0.0, dir = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      span = std::max({span, std::abs(box.hi[d] - from_d[d]), std::abs(box.lo[d] - from_d[d])});
+      dir = std::max(dir, std::abs(through[d] - from_d[d]));
     }
-    if (best == kNone || tie) return std::nullopt;
-    // The sub-triangle strictly containing the hit point.
-    for (std::uint32_t t = m_.first_sub_triangle[best]; t < m_.first_sub_triangle[best + 1]; ++t) {
+    if (!(dir > 0.0)) return {};
+    const double lambda = 2.0 * span / dir + 2.0;
+    const IK::Point_3 from(from_d[0], from_d[1], from_d[2]);
+    const IK::Point_3 far(from_d[0] + lambda * (through[0] - from_d[0]), from_d[1] + lambda * (through[1] - from_d[1]),
+                          from_d[2] + lambda * (through[2] - from_d[2]));
+    std::vector<std::pair<std::uint32_t, bool>> hits;  // (triangle, from on its positive side)
+    for (std::uint32_t x : triangles) {
+      const IK::Point_3 a = P(x, 0), b = P(x, 1), c = P(x, 2);
+      const CGAL::Orientation s0 = CGAL::orientation(a, b, c, from), s1 = CGAL::orientation(a, b, c, far);
+      if (s0 == CGAL::COPLANAR || s1 == CGAL::COPLANAR) {
+        if (CGAL::do_intersect(IK::Segment_3(from, far), IK::Triangle_3(a, b, c))) return {};
+        continue;
+      }
+      if (s0 == s1) continue;
+      const CGAL::Orientation o0 = CGAL::orientation(from, far, a, b);
+      const CGAL::Orientation o1 = CGAL::orientation(from, far, b, c);
+      const CGAL::Orientation o2 = CGAL::orientation(from, far, c, a);
+      const bool pos = o0 == CGAL::POSITIVE || o1 == CGAL::POSITIVE || o2 == CGAL::POSITIVE;
+      const bool neg = o0 == CGAL::NEGATIVE || o1 == CGAL::NEGATIVE || o2 == CGAL::NEGATIVE;
+      if (pos && neg) continue;
+      if (o0 == CGAL::COLLINEAR || o1 == CGAL::COLLINEAR || o2 == CGAL::COLLINEAR) return {};  // edge or vertex
+      hits.push_back({x, s0 == CGAL::POSITIVE});
+    }
+    if (hits.empty()) return {RayResult::Kind::Miss, {}};
+    const EK::Point_3 efrom(from_d[0], from_d[1], from_d[2]);
+    const EK::Line_3 line(efrom, EK::Point_3(far.x(), far.y(), far.z()));
+    auto hit_point = [&](std::uint32_t x) {
+      const auto r = CGAL::intersection(line, EK::Plane_3(m_.points[s_.triangles[x][0]], m_.points[s_.triangles[x][1]],
+                                                          m_.points[s_.triangles[x][2]]));
+      return *boost::get<EK::Point_3>(&*r);
+    };
+    std::size_t best = 0;
+    EK::Point_3 best_point = hit_point(hits[0].first);
+    bool tie = false;
+    for (std::size_t i = 1; i < hits.size(); ++i) {
+      const EK::Point_3 p = hit_point(hits[i].first);
+      const CGAL::Comparison_result cmp = CGAL::compare_distance_to_point(efrom, p, best_point);
+      if (cmp == CGAL::SMALLER) {
+        best = i;
+        best_point = p;
+        tie = false;
+      } else if (cmp == CGAL::EQUAL) {
+        tie = true;  // on an intersection curve: try another ray
+      }
+    }
+    if (tie) return {};
+    const std::uint32_t x = hits[best].first;
+    for (std::uint32_t t = m_.first_sub_triangle[x]; t < m_.first_sub_triangle[x + 1]; ++t) {
       const EK::Point_3& a = m_.points[m_.vertex_point[m_.triangles[t][0]]];
       const EK::Point_3& b = m_.points[m_.vertex_point[m_.triangles[t][1]]];
       const EK::Point_3& c = m_.points[m_.vertex_point[m_.triangles[t][2]]];
       if (CGAL::coplanar_orientation(a, b, c, best_point) == CGAL::POSITIVE &&
           CGAL::coplanar_orientation(b, c, a, best_point) == CGAL::POSITIVE &&
           CGAL::coplanar_orientation(c, a, b, best_point) == CGAL::POSITIVE) {
-        return RayHit{t, best_positive};
+        return {RayResult::Kind::Hit, {t, hits[best].second}};
       }
     }
-    return std::nullopt;  // on a sub-triangle edge: try another ray
+    return {};  // on a sub-triangle edge: try another ray
   }
 
  private:
-  const EK::Point_3& P(std::uint32_t t, int k) const { return m_.points[s_.triangles[t][k]]; }
+  IK::Point_3 P(std::uint32_t t, int k) const {
+    const Point3& p = s_.vertices[s_.triangles[t][k]];
+    return {p[0], p[1], p[2]};
+  }
   const Surface& s_;
   const CutMesh& m_;
 };
@@ -332,16 +352,16 @@ class ComplexBuilder {
 
   // ---- each group's outside, and nesting between groups (exact ray casting) -------------------
 
-  std::optional<RayHit> cast_to_group(const EK::Point_3& from, std::uint32_t g, std::uint32_t attempt) const {
+  /// A ray from `from` through (roughly) the centroid of a triangle of group g, different for
+  /// each attempt.
+  RayResult cast_to_group(const Point3& from, std::uint32_t g, std::uint32_t attempt) const {
     const auto& tris = group_triangles_[g];
-    // Targets: centroids of sub-triangles spread over the group, one per attempt.
     const std::uint32_t t = tris[(static_cast<std::uint64_t>(attempt) * 7919u + tris.size() / 2) % tris.size()];
-    const std::uint32_t first = m_.first_sub_triangle[t], count = m_.first_sub_triangle[t + 1] - first;
-    const std::uint32_t sub = first + attempt % count;
-    const Triangle& st = m_.triangles[sub];
-    const EK::Point_3 target = CGAL::centroid(m_.points[m_.vertex_point[st[0]]], m_.points[m_.vertex_point[st[1]]],
-                                              m_.points[m_.vertex_point[st[2]]]);
-    return RayCaster(s_, m_).cast(from, target, t, tris);
+    Point3 through{0, 0, 0};
+    const double w[3] = {0.31 + 0.01 * (attempt % 7), 0.37, 0.32 - 0.01 * (attempt % 7)};
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) through[d] += w[k] * s_.vertices[s_.triangles[t][k]][d];
+    return RayCaster(s_, m_).cast(from, through, group_box_[g], tris);
   }
 
   std::uint32_t class_hit(const RayHit& h) const {
@@ -353,9 +373,10 @@ class ComplexBuilder {
     for (std::uint32_t g = 0; g < group_count_; ++g) {
       const Box3& b = group_box_[g];
       const double dx = b.hi[0] - b.lo[0] + 1.0, dy = b.hi[1] - b.lo[1], dz = b.hi[2] - b.lo[2];
-      const EK::Point_3 from(b.lo[0] - 0.5 * dx - 1.0, b.lo[1] + 0.3711 * dy, b.lo[2] + 0.6173 * dz);
+      const Point3 from{b.lo[0] - 0.5 * dx - 1.0, b.lo[1] + 0.3711 * dy, b.lo[2] + 0.6173 * dz};
       for (std::uint32_t attempt = 0; attempt < 64 && outer_class_[g] == kNone; ++attempt) {
-        if (auto hit = cast_to_group(from, g, attempt)) outer_class_[g] = class_hit(*hit);
+        const RayResult r = cast_to_group(from, g, attempt);
+        if (r.kind == RayResult::Kind::Hit) outer_class_[g] = class_hit(r.hit);
       }
       IMM_ASSERT(outer_class_[g] != kNone, "no generic ray found to the outside of a surface group");
     }
@@ -363,18 +384,20 @@ class ComplexBuilder {
     std::vector<std::vector<std::uint32_t>> candidates(group_count_);
     for (std::uint32_t g = 0; g < group_count_ && group_count_ > 1; ++g) {
       const Point3& v = s_.vertices[s_.triangles[group_triangles_[g].front()][0]];
-      const EK::Point_3 from(v[0], v[1], v[2]);
       for (std::uint32_t h = 0; h < group_count_; ++h) {
         if (h == g) continue;
         const Box3& b = group_box_[h];
         if (v[0] < b.lo[0] || v[0] > b.hi[0] || v[1] < b.lo[1] || v[1] > b.hi[1] || v[2] < b.lo[2] || v[2] > b.hi[2])
           continue;
         std::uint32_t cls = kNone;
-        for (std::uint32_t attempt = 0; attempt < 64 && cls == kNone; ++attempt) {
-          if (auto hit = cast_to_group(from, h, attempt)) cls = class_hit(*hit);
+        bool outside = false;
+        for (std::uint32_t attempt = 0; attempt < 64 && cls == kNone && !outside; ++attempt) {
+          const RayResult r = cast_to_group(v, h, attempt);
+          if (r.kind == RayResult::Kind::Hit) cls = class_hit(r.hit);
+          outside = r.kind == RayResult::Kind::Miss;  // a ray leaving h's box without a hit
         }
-        IMM_ASSERT(cls != kNone, "no generic ray found between two surface groups");
-        if (cls != outer_class_[h]) candidates[g].push_back(cls);
+        IMM_ASSERT(cls != kNone || outside, "no generic ray found between two surface groups");
+        if (cls != kNone && cls != outer_class_[h]) candidates[g].push_back(cls);
       }
     }
     // The tightest container is the candidate whose own group is nested deepest.
