@@ -7,6 +7,10 @@
 //   Inversion / not immersible / budget -> exit 3, the rule / region / cell named
 //   InvariantError, std::exception     -> exit 1
 // Every output goes through write_file_atomic: complete or absent, never half-written.
+//
+// This file holds the parsing, the help texts, the 2D commands and the pieces both dimensions
+// share (declared in core/cli_common.h); the commands dispatch to core/cli_surface.cpp when the
+// input is a 3D surface (is_surface_file) or the generator name is a 3D one.
 #include "core/cli.h"
 
 #include <algorithm>
@@ -29,6 +33,7 @@
 #include <variant>
 
 #include "core/atomic_file.h"
+#include "core/cli_common.h"
 #include "core/diagnostics.h"
 #include "core/graph_search.h"
 #include "core/report_json.h"
@@ -38,21 +43,16 @@
 #include "dim2/mesh2.h"
 #include "dim2/svg.h"
 
-namespace imm {
+namespace imm::cli {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // ---- help texts ---------------------------------------------------------------------------
 
 constexpr const char* kMainHelp = R"(usage: immerse [COMMAND] [ARGS...]
 
-Immersion of self-intersecting curves (Li & Barbic 2018, "Immersion of Self-Intersecting Solids
-and Surfaces"): cell complex, every immersion, and an unglued simulation mesh.
+Immersion of self-intersecting curves and surfaces (Li & Barbic 2018, "Immersion of
+Self-Intersecting Solids and Surfaces"): cell complex, every immersion, and an unglued simulation
+mesh (2D; 3D meshing is issue 4).
 
 commands:
   (none)                           the main job on a bundled curve with two immersions; writes
@@ -60,26 +60,31 @@ commands:
   check IN                         validate the input; list every defect with its location
   cells IN [--json OUT]            the cell complex: regions, cells, patches, arcs, windings
   immersions IN [options]          the immersion search (paper §6, Algorithm 1)
-  mesh IN [options]                mesh one immersion (paper §7)
-  generate NAME [PARAMS] [-o OUT]  procedural input curves; 'generate --list' names them
+  mesh IN [options]                mesh one immersion (paper §7; 2D curves for now)
+  generate NAME [PARAMS] [-o OUT]  procedural curves and surfaces; 'generate --list' names them
   help [COMMAND]                   this text, or the options of one command (also CMD --help)
 
-input (2D): closed polygonal curves; the dimension is taken from the file:
+input: the dimension is taken from the file.
+  2D, closed polygonal curves:
   .txt .xy .poly (and other)  one vertex 'x y' per line, '#' comments, a blank line ends a curve
   .svg                        <polygon>, <polyline>, <path> with straight segments
   .obj                        'v' and 'l' lines
-  .off .ply .stl, .obj with faces: 3D surfaces, not supported yet (issue 3): exit code 2
-Orientation is the vertex order; a counter-clockwise outer curve has winding number +1 inside.
-An input whose winding numbers are all <= 0 is reversed (and says so).
+  3D, closed triangle meshes (several components allowed; polygons are fan-triangulated):
+  .obj .off .ply .stl          OBJ ('f' faces, no 'l' lines), OFF, PLY and STL (ASCII or binary)
+Orientation: the vertex order; a counter-clockwise outer curve, or a surface whose triangles are
+counter-clockwise seen from outside, has winding number +1 inside. An input whose winding
+numbers are all <= 0 is reversed (and says so).
 
 exit codes:
   0   success (check: the input is valid; immersions/mesh: the input is immersible)
   1   internal error (a bug: please report it), or an output file that could not be written
-  2   invalid input: every defect is printed (kind, stage, curve/vertex ids, coordinates)
+  2   invalid input: every defect is printed (kind, stage, curve/segment or triangle ids,
+      vertex ids, coordinates)
   3   valid input that is not immersible: an inverted region (negative winding number), the
       conflicting rule with its cells and patches, a possibly self-connecting cell, or
       "search budget exhausted after N states"
-  64  bad command line (unknown command or option, missing or malformed value)
+  64  bad command line (unknown command or option, missing or malformed value; also 'mesh' on
+      a 3D surface, not implemented yet)
 
 A one-line timing summary is always printed on stderr, progress messages too when stderr is a
 terminal. Outputs are written to '<path>.tmp.<pid>' and renamed: never a partial file.
@@ -87,36 +92,53 @@ terminal. Outputs are written to '<path>.tmp.<pid>' and renamed: never a partial
 
 constexpr const char* kCheckHelp = R"(usage: immerse check IN
 
-Reads IN and validates it: empty input, non-finite coordinates, curves with fewer than three
-vertices, repeated consecutive vertices, open OBJ curves, collinear overlaps, a vertex touching
-another segment, three or more segments through one point. Every defect is printed with its
-curve, segment and vertex ids (0-based, file order) and coordinates.
+Reads IN and validates it, then builds its cell complex.
+2D curves: empty input, non-finite coordinates, curves with fewer than three vertices, repeated
+consecutive vertices, open OBJ curves, collinear overlaps, a vertex touching another segment,
+three or more segments through one point.
+3D surfaces (OBJ, OFF, PLY, STL): unreadable or empty files, non-finite coordinates, open
+boundary, non-manifold edges or vertices, inconsistent orientation, degenerate triangles,
+duplicate vertices or faces; coplanar overlapping triangles, surfaces touching without crossing,
+intersections through vertices or edges (non-generic input the paper excludes). A valid surface
+prints its triangles, components, intersecting triangle pairs, cells and maximum winding number.
+Every defect is printed with its curve/segment or triangle ids and vertex ids (0-based, file
+order; polygon faces are fan-triangulated in order) and coordinates.
 Exit code 0 when the input is valid (an inverted region is reported as a note: the input is
 valid but not immersible, see 'immerse immersions'), 2 when it is not, 64 on a bad command line.
 )";
 
-constexpr const char* kCellsHelp = R"(usage: immerse cells IN [--json OUT]
+constexpr const char* kCellsHelp = R"(usage: immerse cells IN [--json OUT] [--cut-mesh OUT.obj]
 
 Builds the exact cell complex of IN (paper §4) and prints its counts and a table of the cells.
-  --json OUT   write the complex as JSON: counts; per region its winding number, exact area (a
-               rational "p/q" and a double) and simple connectivity; per cell its B-patches and
-               their agreement; per patch its positive/negative regions; per arc its point, its
-               four junction patches in counter-clockwise order and the four wedges (wedge k lies
-               between junction k and k+1); timings in milliseconds.
+IN is a 2D curve file or a 3D surface (OBJ, OFF, PLY, STL).
+  --json OUT   write the complex as JSON: counts; per region its winding number, exact measure
+               and simple connectivity (2D: "area" as a rational "p/q" and "area_double"; 3D:
+               "volume" as a double, "volume_exact" as a rational "p/q", and the genus of its
+               boundary); per cell its B-patches and their agreement; per patch its
+               positive/negative regions (3D: and its triangle count); per arc its four junction
+               patches in cyclic order (2D: counter-clockwise around the crossing point; 3D:
+               around the intersection curve) and the four wedges (wedge k lies between junction
+               k and k+1); timings in milliseconds.
+  --cut-mesh OUT.obj   (3D) the surface cut along its self-intersection curves, one OBJ group
+               per patch, for viewers.
 Exit codes: 0 ok, 2 invalid input, 3 inverted region, 64 bad command line, 1 internal error.
 )";
 
 constexpr const char* kImmersionsHelp = R"(usage: immerse immersions IN [--all | --max N] [--max-states N] [--time-limit S]
-                           [--json OUT] [--svg DIR]
+                           [--json OUT] [--svg DIR] [--no-helper-boxes]
 
 Searches the immersions of IN (paper §6, Algorithm 1): graphs of cell copies satisfying Rules 1-7.
+IN is a 2D curve file or a 3D surface (OBJ, OFF, PLY, STL). In 3D, a cell that may be
+self-connecting (paper §5.1) is cut by a helper box added to the input (§6.2) and the search is
+run again; the boxes used are listed.
   --all            enumerate every immersion (pairwise non-isomorphic)
   --max N          stop after N immersions (N >= 1; default 1)
   --max-states N   search budget in explored states (N >= 1; default 50000000)
   --time-limit S   search budget in seconds (S > 0; default none)
   --json OUT       status, count, completeness, search statistics and, per immersion, its nodes
                    (id, cell, copy), edges (inner, outer, patch) and the owner node of every patch
-  --svg DIR        one drawing per immersion, DIR/immersion_K.svg (K = 0, 1, ...)
+  --svg DIR        (2D) one drawing per immersion, DIR/immersion_K.svg (K = 0, 1, ...)
+  --no-helper-boxes  (3D) no helper boxes: a possibly self-connecting cell is the verdict
 Exit codes: 0 immersible, 3 not immersible / inverted / self-connecting cell / budget exhausted
 (the JSON is written in every case), 2 invalid input, 64 bad command line, 1 internal error.
 )";
@@ -126,7 +148,8 @@ constexpr const char* kMeshHelp = R"(usage: immerse mesh IN [--resolution N | --
                      [--svg OUT.svg] [--json OUT]
 
 Meshes one immersion of IN (paper §7): a background triangulation, virtual triangles where the
-input cuts a triangle, one copy per graph node, copies fused across graph edges.
+input cuts a triangle, one copy per graph node, copies fused across graph edges. 2D curves only:
+3D meshing is not implemented yet (issue 4; a 3D surface exits with code 64).
   --resolution N        background edges across the bounding-box diagonal (N >= 1; default 24)
   --background FILE     use this Medit .mesh (Dimension 2) as the background instead
   --conforming          insert the input as constraints (no triangle is cut by the input)
@@ -145,9 +168,11 @@ Exit codes: 0 ok, 2 invalid input or background not covering the input, 3 not im
 constexpr const char* kGenerateHelp = R"(usage: immerse generate NAME [PARAMS...] [-o OUT]
        immerse generate --list
 
-Writes a procedural input curve (the paper's figures and test shapes). PARAMS are positional,
-as listed by --list. OUT ending in .obj is written as OBJ 'v'/'l' lines, anything else in the
+Writes a procedural input (the paper's figures and test shapes): a 2D curve or a 3D surface,
+as listed by --list. PARAMS are positional, as listed by --list.
+2D: OUT ending in .obj is written as OBJ 'v'/'l' lines, .svg as polygons, anything else in the
 text format; without -o the text format goes to standard output.
+3D: OUT ending in .off is written as OFF, .obj (or no -o: standard output) as OBJ.
 Exit codes: 0 ok, 64 unknown name or bad parameters, 1 output not writable.
 )";
 
@@ -165,22 +190,6 @@ const char* help_for(const std::string& command) {
 struct OptionSpec {
   std::string_view name;  ///< "--json", "-o"
   bool takes_value;
-};
-
-struct CommandLine {
-  std::vector<std::string> positional;
-  std::map<std::string, std::string> values;
-  std::set<std::string> flags;
-  bool help = false;
-
-  [[nodiscard]] bool has(const std::string& name) const {
-    return flags.count(name) != 0 || values.count(name) != 0;
-  }
-  [[nodiscard]] std::optional<std::string> value(const std::string& name) const {
-    const auto it = values.find(name);
-    if (it == values.end()) return std::nullopt;
-    return it->second;
-  }
 };
 
 /// A usage error: the message, printed with the command's usage line, exit code 64.
@@ -265,6 +274,10 @@ std::variant<double, UsageError> parse_positive_real(const std::string& option, 
   return v;
 }
 
+}  // namespace
+
+// ---- shared with the 3D commands (core/cli_common.h) -----------------------------------------
+
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
@@ -274,7 +287,7 @@ std::string extension_of(const std::string& path) {
   return lower(std::filesystem::path(path).extension().string());
 }
 
-std::string plural(std::size_t n, const std::string& word, const std::string& words = "") {
+std::string plural(std::size_t n, const std::string& word, const std::string& words) {
   return std::to_string(n) + " " + (n == 1 ? word : words.empty() ? word + "s" : words);
 }
 
@@ -285,108 +298,111 @@ std::string format_ms(double seconds) {
   return buffer;
 }
 
-// ---- one run: timings, counts, written files -------------------------------------------------
-
-class Session {
- public:
-  explicit Session(const CliEnvironment& env) : env_(env) {}
-
-  [[nodiscard]] const CliEnvironment& env() const { return env_; }
-  std::ostream& out() const { return env_.out; }
-  std::ostream& err() const { return env_.err; }
-  [[nodiscard]] bool show_progress() const { return env_.show_progress; }
-
-  /// Runs f() and adds its wall time to `stage` (stages are listed in first-use order).
-  template <class F>
-  auto timed(const std::string& stage, F&& f) {
-    const Clock::time_point start = Clock::now();
-    struct Adder {
-      Session& session;
-      const std::string& stage;
-      Clock::time_point start;
-      ~Adder() { session.add_time(stage, seconds_since(start)); }
-    } adder{*this, stage, start};
-    return f();
+int usage_error(const CliEnvironment& env, const std::string& command, const std::string& message) {
+  env.err << "immerse" << (command.empty() ? "" : " " + command) << ": " << message << '\n';
+  if (const char* help = help_for(command)) {
+    const std::string text = help;
+    env.err << text.substr(0, text.find("\n\n")) << '\n';
   }
-  void add_time(const std::string& stage, double seconds) {
-    for (auto& [name, total] : stages_) {
-      if (name == stage) {
-        total += seconds;
-        return;
-      }
-    }
-    stages_.emplace_back(stage, seconds);
-  }
-  [[nodiscard]] Json timings_json() const {
-    Json t = Json::object();
-    for (const auto& [name, total] : stages_) t.set(name, total * 1e3);
-    return t;
-  }
-
-  /// What the summary line says before the timings ("4 cells, 8 patches, ...").
-  void set_counts(std::string text) { counts_ = std::move(text); }
-  void enable_summary() { summary_ = true; }
-
-  /// Writes `content` to `path` atomically (creating parent directories), records it for the
-  /// listing. @return false (after printing why) on failure.
-  bool write(const std::string& path, const std::string& content, const std::string& what) {
-    return timed("write", [&] {
-      const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-      if (!parent.empty()) {
-        const WriteStatus dir = ensure_directory(parent.string());
-        if (!dir.ok()) {
-          err() << "immerse: " << dir.error << '\n';
-          return false;
-        }
-      }
-      const WriteStatus status = write_file_atomic(path, content);
-      if (!status.ok()) {
-        err() << "immerse: " << status.error << '\n';
-        return false;
-      }
-      written_.emplace_back(path, what);
-      return true;
-    });
-  }
-  [[nodiscard]] const std::vector<std::pair<std::string, std::string>>& written() const { return written_; }
-
-  void print_summary() const {
-    if (!summary_) return;
-    std::ostringstream os;
-    os << "immerse: " << (counts_.empty() ? std::string("done") : counts_);
-    if (!stages_.empty()) {
-      os << " |";
-      for (std::size_t i = 0; i < stages_.size(); ++i)
-        os << (i ? ", " : " ") << stages_[i].first << ' ' << format_ms(stages_[i].second);
-    }
-    env_.err << os.str() << '\n';
-  }
-
- private:
-  const CliEnvironment& env_;
-  std::vector<std::pair<std::string, double>> stages_;
-  std::string counts_;
-  bool summary_ = false;
-  std::vector<std::pair<std::string, std::string>> written_;
-};
-
-// ---- JSON pieces ----------------------------------------------------------------------------
-
-Json point_json(const dim2::Point& p) {
-  Json a = Json::array();
-  a.push(p.x);
-  a.push(p.y);
-  return a;
+  env.err << "run 'immerse " << (command.empty() ? "" : command + " ") << "--help' for details\n";
+  return kExitUsage;
 }
 
-Json defects_json(const ValidationReport& report) {
+void print_written(Session& s, std::size_t from) {
+  const auto& written = s.written();
+  std::size_t width = 0;
+  for (std::size_t i = from; i < written.size(); ++i) width = std::max(width, written[i].first.size());
+  for (std::size_t i = from; i < written.size(); ++i) {
+    s.out() << "wrote " << written[i].first << std::string(width - written[i].first.size() + 2, ' ')
+            << written[i].second << '\n';
+  }
+}
+
+std::string b_patch_list(std::span<const BPatch> b_patches) {
+  std::string patches;
+  for (const BPatch& b : b_patches) {
+    if (patches.size() > 40) {
+      patches += " ...";
+      break;
+    }
+    patches += (patches.empty() ? "P" : " P") + std::to_string(b.patch.value()) + (b.agrees ? "" : "*");
+  }
+  return patches;
+}
+
+void print_defects(Session& s, const std::string& path, const ValidationReport& report) {
+  s.err() << "immerse: invalid input '" << path << "': " << plural(report.total(), "defect") << '\n'
+          << report.summary(std::numeric_limits<std::size_t>::max());
+  s.set_counts("invalid input (" + plural(report.total(), "defect") + ")");
+}
+
+SearchOptions search_options(const Session& s, const SearchRequest& request) {
+  SearchOptions options;
+  options.max_immersions = request.max_immersions;
+  options.max_states = request.max_states;
+  options.time_limit_seconds = request.time_limit;
+  options.progress = s.progress("search");
+  return options;
+}
+
+std::string immersion_counts(const SearchResult& r) {
+  if (r.status == ImmersionStatus::SearchBudgetExhausted) return "search budget exhausted";
+  return (r.complete || r.immersions.empty() ? "" : "at least ") + plural(r.immersions.size(), "immersion");
+}
+
+void print_no_immersion(Session& s, const std::string& path, const SearchResult& r, const std::string& hint) {
+  std::ostringstream os;
+  os << "immerse: '" << path << "' ";
+  switch (r.status) {
+    case ImmersionStatus::NotImmersible:
+      os << "is not immersible";
+      if (r.conflict.rule > 0 && r.conflict.message.find("Rule " + std::to_string(r.conflict.rule)) == std::string::npos) {
+        os << " (Rule " << r.conflict.rule << " cannot be satisfied)";
+      }
+      os << ": " << r.conflict.message;
+      break;
+    case ImmersionStatus::SelfConnectingCell:
+      // The search's message already says "no simple immersion exists" and names the cell.
+      os << "is not simply immersible: " << r.conflict.message;
+      break;
+    case ImmersionStatus::SearchBudgetExhausted:
+      os << "could not be decided: " << r.conflict.message
+         << " (raise --max-states / --time-limit)";
+      break;
+    case ImmersionStatus::Immersible: os << "is immersible"; break;
+  }
+  s.err() << os.str() << hint << '\n';
+}
+
+void print_immersion_list(Session& s, const std::string& description, const SearchResult& r,
+                          const SearchRequest& request) {
+  s.out() << description << ": immersible, " << plural(r.immersions.size(), "immersion");
+  if (r.complete) {
+    s.out() << (r.immersions.size() == 1 ? " (the only one)" : " (all of them)");
+  } else if (request.max_immersions != 0 && r.immersions.size() >= request.max_immersions) {
+    s.out() << " (stopped at " << request.max_immersions << "; more may exist: use --all)";
+  } else {
+    s.out() << " (the search budget ran out after " << r.stats.states
+            << " states; more may exist: raise --max-states / --time-limit)";
+  }
+  s.out() << '\n';
+  for (std::size_t k = 0; k < r.immersions.size() && k < kMaxTableRows; ++k) {
+    const Immersion& im = r.immersions[k];
+    s.out() << "  immersion " << k << ": " << plural(im.layout.node_count(), "node") << ", "
+            << plural(im.edges.size(), "edge") << ", " << plural(im.components().size(), "connected component")
+            << '\n';
+  }
+  if (r.immersions.size() > kMaxTableRows) s.out() << "  ... (see --json)\n";
+}
+
+Json defects_json(const ValidationReport& report, const std::string& facet_key) {
   Json list = Json::array();
   for (const Defect& d : report.defects) {
     Json& j = list.push(Json::object());
     j.set("kind", to_string(d.kind));
     j.set("stage", d.stage);
     j.set("message", d.message);
-    Json& facets = j.set("segments", Json::array());
+    Json& facets = j.set(facet_key, Json::array());
     for (long f : d.facets) facets.push(f);
     Json& vertices = j.set("vertices", Json::array());
     for (long v : d.vertices) vertices.push(v);
@@ -411,80 +427,6 @@ Json conflict_json(const Conflict& c) {
   for (PatchId id : c.patches) patches.push(id.value());
   j.set("arc", c.arc.is_valid() ? Json(c.arc.value()) : Json());
   return j;
-}
-
-Json cell_id_json(CellId c) { return c.is_valid() ? Json(c.value()) : Json(); }
-
-/// Counts of the complex, shared by every report.
-Json counts_json(const dim2::Complex2& c2) {
-  const CellComplex<2>& complex = c2.complex;
-  Json j = Json::object();
-  j.set("regions", complex.region_count());
-  j.set("cells", complex.cell_count());
-  j.set("patches", complex.patch_count());
-  j.set("arcs", complex.arc_count());
-  j.set("max_winding", complex.max_winding_number());
-  j.set("arrangement_vertices", c2.arrangement_vertices);
-  j.set("arrangement_edges", c2.arrangement_edges);
-  j.set("arrangement_faces", c2.arrangement_faces);
-  return j;
-}
-
-/// Adds the whole cell complex (paper §4) to the object j: counts, regions, cells, patches, arcs.
-void add_complex_json(Json& j, const dim2::Complex2& c2) {
-  const CellComplex<2>& complex = c2.complex;
-  j.set("counts", counts_json(c2));
-  Rational total = 0;
-  Json& regions = j.set("regions", Json::array());
-  for (RegionId r : ids<RegionId>(complex.region_count())) {
-    Json& o = regions.push(Json::object());
-    o.set("id", r.value());
-    o.set("winding", complex.winding_number(r));
-    o.set("cell", cell_id_json(complex.cell_of(r)));
-    o.set("area", to_string(complex.measure(r)));
-    o.set("area_double", to_double(complex.measure(r)));
-    o.set("simply_connected", complex.is_simply_connected(r));
-    o.set("sample", point_json(c2.region_sample[r]));
-    total += complex.measure(r) * complex.winding_number(r);
-  }
-  j.set("winding_weighted_area", to_string(total));
-  Json& cells = j.set("cells", Json::array());
-  for (CellId c : ids<CellId>(complex.cell_count())) {
-    Json& o = cells.push(Json::object());
-    o.set("id", c.value());
-    o.set("region", complex.region_of(c).value());
-    o.set("winding", complex.winding_number(c));
-    Json& b = o.set("b_patches", Json::array());
-    for (const BPatch& bp : complex.b_patches(c)) {
-      Json& e = b.push(Json::object());
-      e.set("patch", bp.patch.value());
-      e.set("agrees", bp.agrees);
-    }
-    Json& touching = o.set("self_touching_arcs", Json::array());
-    for (ArcId a : complex.self_touching_arcs(c)) touching.push(a.value());
-  }
-  Json& patches = j.set("patches", Json::array());
-  for (PatchId p : ids<PatchId>(complex.patch_count())) {
-    Json& o = patches.push(Json::object());
-    o.set("id", p.value());
-    o.set("positive_region", complex.sides(p).positive.value());
-    o.set("negative_region", complex.sides(p).negative.value());
-    o.set("inner_cell", cell_id_json(complex.inner_cell(p)));
-    o.set("outer_cell", cell_id_json(complex.outer_cell(p)));
-    Json& arcs = o.set("arcs", Json::array());
-    for (ArcId a : complex.arcs_of(p)) arcs.push(a.value());
-  }
-  Json& arcs = j.set("arcs", Json::array());
-  for (ArcId a : ids<ArcId>(complex.arc_count())) {
-    const ArcJunctions& junctions = complex.arc(a);
-    Json& o = arcs.push(Json::object());
-    o.set("id", a.value());
-    o.set("point", point_json(c2.arc_point[a]));
-    Json& patches_ccw = o.set("junction_patches_ccw", Json::array());
-    for (PatchId p : junctions.patch) patches_ccw.push(p.value());
-    Json& wedges = o.set("wedge_regions", Json::array());
-    for (RegionId r : junctions.wedge) wedges.push(r.value());
-  }
 }
 
 Json immersion_json(const Immersion& im, std::size_t index) {
@@ -525,6 +467,65 @@ Json stats_json(const SearchStats& s) {
   return j;
 }
 
+Json search_json(Json input, const SearchResult& r, const Session& s) {
+  Json j = Json::object();
+  j.set("input", std::move(input));
+  j.set("status", to_string(r.status));
+  j.set("count", r.immersions.size());
+  j.set("complete", r.complete);
+  j.set("stats", stats_json(r.stats));
+  j.set("conflict", r.status == ImmersionStatus::Immersible ? Json() : conflict_json(r.conflict));
+  Json& list = j.set("immersions", Json::array());
+  for (std::size_t k = 0; k < r.immersions.size(); ++k) list.push(immersion_json(r.immersions[k], k));
+  j.set("timings_ms", s.timings_json());
+  return j;
+}
+
+namespace {
+
+// ---- 2D JSON pieces -------------------------------------------------------------------------
+
+Json point_json(const dim2::Point& p) {
+  Json a = Json::array();
+  a.push(p.x);
+  a.push(p.y);
+  return a;
+}
+
+/// Counts of the complex, shared by every report.
+Json counts_json(const dim2::Complex2& c2) {
+  const CellComplex<2>& complex = c2.complex;
+  Json j = Json::object();
+  j.set("regions", complex.region_count());
+  j.set("cells", complex.cell_count());
+  j.set("patches", complex.patch_count());
+  j.set("arcs", complex.arc_count());
+  j.set("max_winding", complex.max_winding_number());
+  j.set("arrangement_vertices", c2.arrangement_vertices);
+  j.set("arrangement_edges", c2.arrangement_edges);
+  j.set("arrangement_faces", c2.arrangement_faces);
+  return j;
+}
+
+/// Adds the whole cell complex (paper §4) to the object j: counts, regions (with exact areas and
+/// a sample point), cells, patches, arcs (with their crossing point; junctions counter-clockwise).
+void add_complex_json(Json& j, const dim2::Complex2& c2) {
+  const CellComplex<2>& complex = c2.complex;
+  j.set("counts", counts_json(c2));
+  Rational total = 0;
+  for (RegionId r : ids<RegionId>(complex.region_count())) total += complex.measure(r) * complex.winding_number(r);
+  j.set("winding_weighted_area", to_string(total));
+  ComplexJsonHooks hooks;
+  hooks.region = [&](Json& o, RegionId r) {
+    o.set("area", to_string(complex.measure(r)));
+    o.set("area_double", to_double(complex.measure(r)));
+    o.set("sample", point_json(c2.region_sample[r]));
+  };
+  hooks.arc = [&](Json& o, ArcId a) { o.set("point", point_json(c2.arc_point[a])); };
+  hooks.junction_key = "junction_patches_ccw";
+  cli::add_complex_json(j, complex, hooks);
+}
+
 Json inversion_json(const dim2::Inversion& inv) {
   Json j = Json::object();
   j.set("region", inv.region.value());
@@ -545,25 +546,6 @@ struct Prepared {
   std::shared_ptr<dim2::Complex2> complex;
 };
 
-/// True when the file is a 3D surface: by extension, or an OBJ with faces and no 'l' lines.
-bool is_surface_file(const std::string& path) {
-  const std::string ext = extension_of(path);
-  if (ext == ".off" || ext == ".ply" || ext == ".stl") return true;
-  if (ext != ".obj") return false;
-  std::ifstream in(path);
-  if (!in) return false;  // the 2D reader reports it
-  bool faces = false, lines = false;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::size_t i = line.find_first_not_of(" \t");
-    if (i == std::string::npos || i + 1 >= line.size()) continue;
-    if (line[i + 1] != ' ' && line[i + 1] != '\t') continue;
-    faces = faces || line[i] == 'f';
-    lines = lines || line[i] == 'l';
-  }
-  return faces && !lines;
-}
-
 Json input_json(const Prepared& p) {
   Json j = Json::object();
   j.set("path", p.path);
@@ -574,35 +556,14 @@ Json input_json(const Prepared& p) {
   return j;
 }
 
-void print_defects(Session& s, const Prepared& p) {
-  s.err() << "immerse: invalid input '" << p.path << "': " << plural(p.report.defects.size(), "defect") << '\n'
-          << p.report.summary(std::numeric_limits<std::size_t>::max());
-  s.set_counts("invalid input (" + plural(p.report.defects.size(), "defect") + ")");
-}
+void print_defects(Session& s, const Prepared& p) { cli::print_defects(s, p.path, p.report); }
 
-/// "2 immersions", "at least 2 immersions", "search budget exhausted" for the summary line.
-std::string immersion_counts(const SearchResult& r) {
-  if (r.status == ImmersionStatus::SearchBudgetExhausted) return "search budget exhausted";
-  return (r.complete || r.immersions.empty() ? "" : "at least ") + plural(r.immersions.size(), "immersion");
-}
-
-std::string complex_counts(const dim2::Complex2& c2) {
-  const CellComplex<2>& c = c2.complex;
-  return plural(c.cell_count(), "cell") + ", " + plural(c.patch_count(), "patch", "patches") + ", " +
-         plural(c.arc_count(), "arc");
-}
+std::string complex_counts(const dim2::Complex2& c2) { return cli::complex_counts(c2.complex); }
 
 /// Reads, validates and builds the cell complex. @return kExitOk, or kExitInvalidInput after
 /// printing every defect. An inversion is left in p.inversion for the caller.
+/// @pre the file is not a 3D surface (is_surface_file).
 int prepare_curves(Session& s, Prepared& p) {
-  if (is_surface_file(p.path)) {
-    p.report.add(Defect{DefectKind::Unreadable, "read",
-                        "'" + p.path + "' is a 3D surface: 3D surfaces are not supported yet (issue 3); "
-                        "2D input is .txt/.xy/.poly, .svg, or .obj with 'l' lines",
-                        {}, {}, {}});
-    print_defects(s, p);
-    return kExitInvalidInput;
-  }
   dim2::ReadResult read = s.timed("read", [&] { return dim2::read_curves(p.path); });
   p.curves = std::move(read.curves);
   p.report = std::move(read.report);
@@ -637,58 +598,13 @@ void print_inversion(Session& s, const Prepared& p) {
 
 // ---- search ------------------------------------------------------------------------------------
 
-struct SearchRequest {
-  std::size_t max_immersions = 1;
-  std::size_t max_states = SearchOptions{}.max_states;
-  double time_limit = 0.0;
-};
-
 SearchResult run_search(Session& s, const dim2::Complex2& c2, const SearchRequest& request) {
-  SearchOptions options;
-  options.max_immersions = request.max_immersions;
-  options.max_states = request.max_states;
-  options.time_limit_seconds = request.time_limit;
-  if (s.show_progress()) options.progress = [&s](const std::string& m) { s.err() << "immerse: search: " << m << '\n'; };
+  const SearchOptions options = search_options(s, request);
   return s.timed("search", [&] { return find_immersions(c2.complex, options); });
 }
 
-/// The verdict line for a search without immersions (exit 3), on stderr.
-void print_no_immersion(Session& s, const Prepared& p, const SearchResult& r) {
-  std::ostringstream os;
-  os << "immerse: '" << p.path << "' ";
-  switch (r.status) {
-    case ImmersionStatus::NotImmersible:
-      os << "is not immersible";
-      if (r.conflict.rule > 0 && r.conflict.message.find("Rule " + std::to_string(r.conflict.rule)) == std::string::npos) {
-        os << " (Rule " << r.conflict.rule << " cannot be satisfied)";
-      }
-      os << ": " << r.conflict.message;
-      break;
-    case ImmersionStatus::SelfConnectingCell:
-      // The search's message already says "no simple immersion exists" and names the cell.
-      os << "is not simply immersible: " << r.conflict.message;
-      break;
-    case ImmersionStatus::SearchBudgetExhausted:
-      os << "could not be decided: " << r.conflict.message
-         << " (raise --max-states / --time-limit)";
-      break;
-    case ImmersionStatus::Immersible: os << "is immersible"; break;
-  }
-  s.err() << os.str() << '\n';
-}
-
 Json search_json(const Prepared& p, const SearchResult& r, const Session& s) {
-  Json j = Json::object();
-  j.set("input", input_json(p));
-  j.set("status", to_string(r.status));
-  j.set("count", r.immersions.size());
-  j.set("complete", r.complete);
-  j.set("stats", stats_json(r.stats));
-  j.set("conflict", r.status == ImmersionStatus::Immersible ? Json() : conflict_json(r.conflict));
-  Json& list = j.set("immersions", Json::array());
-  for (std::size_t k = 0; k < r.immersions.size(); ++k) list.push(immersion_json(r.immersions[k], k));
-  j.set("timings_ms", s.timings_json());
-  return j;
+  return cli::search_json(input_json(p), r, s);
 }
 
 /// JSON for an input that never reached the search (defects or inversion).
@@ -697,7 +613,7 @@ Json early_json(const Prepared& p, const Session& s) {
   j.set("input", input_json(p));
   if (!p.report.ok()) {
     j.set("status", "invalid-input");
-    j.set("defects", defects_json(p.report));
+    j.set("defects", defects_json(p.report, "segments"));
   } else if (p.inversion) {
     j.set("status", "inverted");
     j.set("inversion", inversion_json(*p.inversion));
@@ -707,12 +623,6 @@ Json early_json(const Prepared& p, const Session& s) {
 }
 
 // ---- generators -----------------------------------------------------------------------------
-
-struct GeneratorEntry {
-  std::string name;
-  std::string params;       ///< "N SEED", "[N]"
-  std::string description;
-};
 
 struct Generated {
   dim2::CurveSet curves;
@@ -793,16 +703,6 @@ std::string format_curves_for(const std::string& path, const dim2::CurveSet& cur
 
 constexpr std::size_t kMaxTableRows = 40;
 
-int usage_error(const CliEnvironment& env, const std::string& command, const std::string& message) {
-  env.err << "immerse" << (command.empty() ? "" : " " + command) << ": " << message << '\n';
-  if (const char* help = help_for(command)) {
-    const std::string text = help;
-    env.err << text.substr(0, text.find("\n\n")) << '\n';
-  }
-  env.err << "run 'immerse " << (command.empty() ? "" : command + " ") << "--help' for details\n";
-  return kExitUsage;
-}
-
 /// Parses a command's arguments. @return an exit code when the command must stop here (help
 /// printed: 0; usage error printed: 64).
 std::optional<int> parse_or_exit(const CliEnvironment& env, const std::string& command,
@@ -820,16 +720,6 @@ std::optional<int> parse_or_exit(const CliEnvironment& env, const std::string& c
     return usage_error(env, command, "unexpected argument '" + cl.positional[max_positional] + "'");
   }
   return std::nullopt;
-}
-
-void print_written(Session& s, std::size_t from = 0) {
-  const auto& written = s.written();
-  std::size_t width = 0;
-  for (std::size_t i = from; i < written.size(); ++i) width = std::max(width, written[i].first.size());
-  for (std::size_t i = from; i < written.size(); ++i) {
-    s.out() << "wrote " << written[i].first << std::string(width - written[i].first.size() + 2, ' ')
-            << written[i].second << '\n';
-  }
 }
 
 std::string describe_input(const Prepared& p) {
@@ -862,20 +752,13 @@ void print_cell_table(Session& s, const dim2::Complex2& c2) {
     char line[128];
     std::snprintf(line, sizeof line, "%5d  %6d  %7d  %16s  %12.6g  ", cell.value(), r.value(), c.winding_number(cell),
                   c.is_simply_connected(r) ? "yes" : "no", to_double(c.measure(r)));
-    std::string patches;
-    for (const BPatch& b : c.b_patches(cell)) {
-      if (patches.size() > 40) {
-        patches += " ...";
-        break;
-      }
-      patches += (patches.empty() ? "P" : " P") + std::to_string(b.patch.value()) + (b.agrees ? "" : "*");
-    }
-    s.out() << line << patches << '\n';
+    s.out() << line << b_patch_list(c.b_patches(cell)) << '\n';
   }
 }
 
 int command_check(Session& s, const CommandLine& cl) {
   s.enable_summary();
+  if (is_surface_file(cl.positional[0])) return check_surface(s, cl.positional[0]);
   Prepared p;
   p.path = cl.positional[0];
   if (const int code = prepare_curves(s, p); code != kExitOk) return code;
@@ -908,6 +791,11 @@ int prepare_complex_or_report(Session& s, Prepared& p, const std::optional<std::
 }
 
 int command_cells(Session& s, const CommandLine& cl) {
+  if (is_surface_file(cl.positional[0])) {
+    s.enable_summary();
+    return cells_surface(s, cl);
+  }
+  if (cl.has("--cut-mesh")) return usage_error(s.env(), "cells", "--cut-mesh needs a 3D surface input");
   s.enable_summary();
   Prepared p;
   p.path = cl.positional[0];
@@ -946,27 +834,10 @@ std::string parse_search_request(const CommandLine& cl, SearchRequest& request) 
 
 void print_search_result(Session& s, const Prepared& p, const SearchResult& r, const SearchRequest& request) {
   if (r.status != ImmersionStatus::Immersible) {
-    print_no_immersion(s, p, r);
+    print_no_immersion(s, p.path, r);
     return;
   }
-  s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << ": immersible, "
-          << plural(r.immersions.size(), "immersion");
-  if (r.complete) {
-    s.out() << (r.immersions.size() == 1 ? " (the only one)" : " (all of them)");
-  } else if (request.max_immersions != 0 && r.immersions.size() >= request.max_immersions) {
-    s.out() << " (stopped at " << request.max_immersions << "; more may exist: use --all)";
-  } else {
-    s.out() << " (the search budget ran out after " << r.stats.states
-            << " states; more may exist: raise --max-states / --time-limit)";
-  }
-  s.out() << '\n';
-  for (std::size_t k = 0; k < r.immersions.size() && k < kMaxTableRows; ++k) {
-    const Immersion& im = r.immersions[k];
-    s.out() << "  immersion " << k << ": " << plural(im.layout.node_count(), "node") << ", "
-            << plural(im.edges.size(), "edge") << ", " << plural(im.components().size(), "connected component")
-            << '\n';
-  }
-  if (r.immersions.size() > kMaxTableRows) s.out() << "  ... (see --json)\n";
+  print_immersion_list(s, describe_input(p) + (p.complex->reversed ? " (reversed)" : ""), r, request);
 }
 
 /// Writes DIR/immersion_K.svg for every immersion. @return false on a write failure.
@@ -988,6 +859,14 @@ int command_immersions(Session& s, const CommandLine& cl) {
   SearchRequest request;
   if (std::string error = parse_search_request(cl, request); !error.empty()) {
     return usage_error(s.env(), "immersions", error);
+  }
+  if (is_surface_file(cl.positional[0])) {
+    if (cl.has("--svg")) return usage_error(s.env(), "immersions", "--svg draws 2D immersions only");
+    s.enable_summary();
+    return immersions_surface(s, cl, request);
+  }
+  if (cl.has("--no-helper-boxes")) {
+    return usage_error(s.env(), "immersions", "--no-helper-boxes applies to 3D surfaces only");
   }
   s.enable_summary();
   Prepared p;
@@ -1056,7 +935,7 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
       Json j = Json::object();
       j.set("input", input_json(p));
       j.set("status", "invalid-input");
-      j.set("defects", defects_json(m.report));
+      j.set("defects", defects_json(m.report, "segments"));
       j.set("timings_ms", s.timings_json());
       if (!s.write(*json_path, j.dump(), "report")) return kExitInternalError;
     }
@@ -1113,6 +992,10 @@ int command_mesh(Session& s, const CommandLine& cl) {
   SearchRequest request;
   if (std::string error = parse_search_request(cl, request); !error.empty()) return usage_error(env, "mesh", error);
   request.max_immersions = k + 1;
+  if (is_surface_file(cl.positional[0])) {
+    env.err << "immerse mesh: '" << cl.positional[0] << "': 3D meshing is not implemented yet (issue 4)\n";
+    return kExitUsage;
+  }
 
   s.enable_summary();
   Prepared p;
@@ -1122,7 +1005,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
   const SearchResult r = run_search(s, *p.complex, request);
   if (r.status != ImmersionStatus::Immersible) {
     s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
-    print_no_immersion(s, p, r);
+    print_no_immersion(s, p.path, r);
     if (json_path && !s.write(*json_path, search_json(p, r, s).dump(), "report")) return kExitInternalError;
     print_written(s);
     return kExitNotImmersible;
@@ -1142,18 +1025,30 @@ int command_mesh(Session& s, const CommandLine& cl) {
 int command_generate(Session& s, const CommandLine& cl) {
   if (cl.has("--list")) {
     if (!cl.positional.empty()) return usage_error(s.env(), "generate", "--list takes no name");
-    const auto list = generator_list();
+    const auto curves = generator_list();
+    const auto surfaces = surface_generator_list();
     std::size_t width = 0;
-    for (const auto& g : list) width = std::max(width, g.name.size() + 1 + g.params.size());
-    for (const auto& g : list) {
-      const std::string head = g.name + (g.params.empty() ? "" : " " + g.params);
-      s.out() << "  " << head << std::string(width - head.size() + 2, ' ') << g.description << '\n';
+    for (const auto* list : {&curves, &surfaces}) {
+      for (const auto& g : *list) width = std::max(width, g.name.size() + 1 + g.params.size());
     }
+    const auto print = [&](const std::vector<GeneratorEntry>& list) {
+      for (const auto& g : list) {
+        const std::string head = g.name + (g.params.empty() ? "" : " " + g.params);
+        s.out() << "  " << head << std::string(width - head.size() + 2, ' ') << g.description << '\n';
+      }
+    };
+    s.out() << "2D curves (text, .svg or .obj output):\n";
+    print(curves);
+    s.out() << "3D surfaces (.obj or .off output):\n";
+    print(surfaces);
     return kExitOk;
   }
   if (cl.positional.empty()) return usage_error(s.env(), "generate", "missing generator name");
   const std::string& name = cl.positional[0];
   const std::vector<std::string> params(cl.positional.begin() + 1, cl.positional.end());
+  if (dim2::find_generator(name) == nullptr && is_surface_generator(name)) {
+    return command_generate_surface(s, name, params, cl.value("-o"));
+  }
   Generated g;
   const Clock::time_point start = Clock::now();
   g = generate_named(name, params);
@@ -1247,7 +1142,9 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
     return command_check(s, cl);
   }
   if (command == "cells") {
-    if (auto code = parse_or_exit(env, command, args, {{"--json", true}}, 1, 1, cl)) return *code;
+    if (auto code = parse_or_exit(env, command, args, {{"--json", true}, {"--cut-mesh", true}}, 1, 1, cl)) {
+      return *code;
+    }
     return command_cells(s, cl);
   }
   const std::vector<OptionSpec> search_specs = {
@@ -1255,6 +1152,7 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   if (command == "immersions") {
     std::vector<OptionSpec> specs = search_specs;
     specs.push_back({"--svg", true});
+    specs.push_back({"--no-helper-boxes", false});
     if (auto code = parse_or_exit(env, command, args, specs, 1, 1, cl)) return *code;
     return command_immersions(s, cl);
   }
@@ -1278,12 +1176,15 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
 }
 
 }  // namespace
+}  // namespace imm::cli
+
+namespace imm {
 
 int run_cli(const std::vector<std::string>& args, const CliEnvironment& env) {
-  Session session(env);
+  cli::Session session(env);
   int code = kExitInternalError;
   try {
-    code = dispatch(session, args);
+    code = cli::dispatch(session, args);
   } catch (const InvariantError& e) {
     env.err << "immerse: internal error (a bug, please report it): " << e.what() << '\n';
     code = kExitInternalError;

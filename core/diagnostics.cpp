@@ -18,6 +18,7 @@ const char* to_string(DefectKind kind) {
     case DefectKind::DuplicateVertex: return "duplicate-vertex";
     case DefectKind::DuplicateFacet: return "duplicate-facet";
     case DefectKind::CollinearOverlap: return "collinear-overlap";
+    case DefectKind::CoplanarOverlap: return "coplanar-overlap";
     case DefectKind::Touching: return "touching";
     case DefectKind::TriplePoint: return "triple-point";
     case DefectKind::NotCovered: return "not-covered";
@@ -31,12 +32,13 @@ std::string ValidationReport::summary(std::size_t max_lines) const {
   std::size_t shown = 0;
   for (const Defect& d : defects) {
     if (shown == max_lines) {
-      os << "... and " << (defects.size() - shown) << " more\n";
-      break;
+      os << "... and " << (total() - shown) << " more\n";
+      return os.str();
     }
     os << to_string(d.kind) << " (" << d.stage << "): " << d.message << '\n';
     ++shown;
   }
+  if (unlisted > 0) os << "... and " << unlisted << " more (not listed)\n";
   return os.str();
 }
 

@@ -25,7 +25,8 @@ enum class DefectKind {
   DegenerateFacet,        ///< zero-length segment / zero-area triangle (exact predicate)
   DuplicateVertex,        ///< repeated consecutive vertex
   DuplicateFacet,         ///< the same facet twice
-  CollinearOverlap,       ///< two segments (2D) or triangles (3D) overlap along a positive measure
+  CollinearOverlap,       ///< two segments (2D) overlap along a positive length
+  CoplanarOverlap,        ///< two triangles (3D) are coplanar and overlap or touch
   Touching,               ///< the input touches itself without crossing (vertex on a facet, ...)
   TriplePoint,            ///< three or more sheets through one point (2D) / non-generic (3D)
   NotCovered,             ///< a background mesh that does not cover the input (meshing)
@@ -48,8 +49,12 @@ struct Defect {
 /// Every defect found in one input. `ok()` when there are none.
 struct ValidationReport {
   std::vector<Defect> defects;
-  [[nodiscard]] bool ok() const { return defects.empty(); }
+  /// Defects found but not listed (a cap keeps a broken 1M-triangle file from printing 1M lines).
+  std::size_t unlisted = 0;
+  [[nodiscard]] bool ok() const { return defects.empty() && unlisted == 0; }
   void add(Defect d) { defects.push_back(std::move(d)); }
+  /// Every defect found, listed or not.
+  [[nodiscard]] std::size_t total() const { return defects.size() + unlisted; }
   /// All messages, one per line, at most `max_lines` (then "... and N more").
   [[nodiscard]] std::string summary(std::size_t max_lines = 20) const;
 };

@@ -468,6 +468,12 @@ class ComplexBuilder {
 
   // ---- output ------------------------------------------------------------------------------
 
+  /// A sheet vertex in doubles (exact for input vertices, rounded for constructed points).
+  Point3 approx_point(std::uint32_t sheet_vertex) const {
+    const std::uint32_t p = m_.vertex_point[sheet_vertex];
+    return p < s_.vertex_count() ? s_.vertices[p] : rounded(m_.points[p]);
+  }
+
   std::uint32_t region_of_side(std::uint32_t patch, bool negative) const {
     return region_of_class_[class_of_node_[side_node(patch, negative)]];
   }
@@ -486,8 +492,7 @@ class ComplexBuilder {
       const Triangle& st = m_.triangles[t];
       const std::uint32_t neg = region_of_side(patch_of_[t], true), pos = region_of_side(patch_of_[t], false);
       if (!options_.exact_volumes) {
-        const Point3 a = rounded(m_.points[m_.vertex_point[st[0]]]), b = rounded(m_.points[m_.vertex_point[st[1]]]),
-                     c = rounded(m_.points[m_.vertex_point[st[2]]]);
+        const Point3 a = approx_point(st[0]), b = approx_point(st[1]), c = approx_point(st[2]);
         const double v = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                          a[2] * (b[0] * c[1] - b[1] * c[0]);
         approx[neg] += v;
@@ -534,7 +539,8 @@ class ComplexBuilder {
 
     // Geometry in doubles, for output and display.
     out.points.reserve(m_.points.size());
-    for (const EK::Point_3& p : m_.points) out.points.push_back(rounded(p));
+    out.points = s_.vertices;  // input vertices are exact doubles already
+    for (std::size_t p = s_.vertex_count(); p < m_.points.size(); ++p) out.points.push_back(rounded(m_.points[p]));
     out.cut_point = m_.vertex_point;
     out.cut_vertices.reserve(m_.vertex_point.size());
     for (std::uint32_t p : m_.vertex_point) out.cut_vertices.push_back(out.points[p]);

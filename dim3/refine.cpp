@@ -72,12 +72,7 @@ class DefectSink {
   [[nodiscard]] bool empty() const { return count_.empty(); }
   ValidationReport finish() {
     for (const auto& [kind, n] : count_) {
-      if (n > kMaxDefectsPerKind) {
-        report_.add(Defect{kind, "intersect",
-                           "... and " + std::to_string(n - kMaxDefectsPerKind) + " more " + to_string(kind) +
-                               " contacts of the same kind",
-                           {}, {}, {}});
-      }
+      if (n > kMaxDefectsPerKind) report_.unlisted += n - kMaxDefectsPerKind;
     }
     return std::move(report_);
   }
@@ -222,7 +217,7 @@ class Refiner {
     const IPoint& u = ip(a, (oa + 1) % 3);
     const IPoint& v = ip(a, (oa + 2) % 3);
     if (CGAL::coplanar_orientation(u, v, ip(a, oa), ip(b, ob)) == CGAL::POSITIVE) {
-      defect(DefectKind::CollinearOverlap,
+      defect(DefectKind::CoplanarOverlap,
              describe_triangle(a) + " and " + describe_triangle(b) + " share an edge and fold onto each other "
                  "(coplanar overlap)",
              {a, b}, {s_.triangles[a][oa], tb[ob]});
@@ -243,7 +238,7 @@ class Refiner {
     const bool coplanar = CGAL::orientation(ip(a, 0), ip(a, 1), ip(a, 2), b1) == CGAL::COPLANAR &&
                           CGAL::orientation(ip(a, 0), ip(a, 1), ip(a, 2), b2) == CGAL::COPLANAR;
     if (coplanar) {
-      defect(DefectKind::CollinearOverlap,
+      defect(DefectKind::CoplanarOverlap,
              describe_triangle(a) + " and " + describe_triangle(b) + " share vertex " + std::to_string(v) +
                  " " + format_point(s_.vertices[v]) + " and overlap in their common plane",
              {a, b}, {v});
@@ -281,7 +276,7 @@ class Refiner {
     if (one_side(oa) || one_side(ob)) return;
     if (oa[0] == CGAL::COPLANAR && oa[1] == CGAL::COPLANAR && oa[2] == CGAL::COPLANAR) {
       if (CGAL::do_intersect(itri(a), itri(b))) {
-        defect(DefectKind::CollinearOverlap,
+        defect(DefectKind::CoplanarOverlap,
                describe_triangle(a) + " and " + describe_triangle(b) + " are coplanar and overlap or touch",
                {a, b}, {s_.triangles[a][0], s_.triangles[b][0]});
       }

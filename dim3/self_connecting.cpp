@@ -84,6 +84,7 @@ Immersed3 immerse_surface(const Surface& surface, const ImmerseOptions3& options
       continue;
     }
     out.build = std::move(build);
+    out.surface = current;
     if (!out.build.report.ok() || out.build.inversion || !out.build.complex) return out;
     if (pending) {
       out.helper_boxes.push_back(*pending);

@@ -26,7 +26,8 @@ struct ImmerseOptions3 {
 };
 
 struct Immersed3 {
-  BuildResult3 build;                 ///< of the final input (user surface + helper boxes)
+  Surface surface;                    ///< the final input: the user's surface, then 12 triangles per box
+  BuildResult3 build;                 ///< of `surface`
   SearchResult search;                ///< on build.complex (empty when the build failed)
   std::vector<Box3> helper_boxes;     ///< in the order they were added
   std::size_t input_triangles = 0;    ///< triangles [0, input_triangles) are the user's

@@ -142,8 +142,8 @@ TEST_F(CliTest, EveryBadInputClassExitsWithTwoAndNamesTheDefect) {
        {"triple-point", "segments 0, 3 and 6 all pass through (0, 0)"}},
       {"empty.txt", "", {"empty", "no curve"}},
       {"surface.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
-       {"3D surfaces are not supported yet (issue 3)"}},
-      {"surface.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", {"3D surfaces are not supported yet (issue 3)"}},
+       {"not-closed", "open boundary"}},
+      {"surface.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", {"not-closed", "open boundary"}},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);

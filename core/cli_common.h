@@ -1,0 +1,313 @@
+// Internal to the `immerse` command line (core/cli.cpp, core/cli_surface.cpp): the pieces both
+// dimensions' commands share. Not a library API: nothing outside the `immerse` target includes it.
+//
+//  - Session: timings per stage, the one-line summary, atomic writes and the list of written files;
+//  - CommandLine: a parsed command line (parsing itself stays in cli.cpp);
+//  - messages and exit-code helpers (usage errors, defects, search verdicts);
+//  - JSON writers that read only dimension-generic data (reports, conflicts, immersions, and the
+//    combinatorial cell complex through hooks for the dimension's geometry).
+#pragma once
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <set>
+#include <span>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "core/cell_complex.h"
+#include "core/cli.h"
+#include "core/diagnostics.h"
+#include "core/graph_search.h"
+#include "core/report_json.h"
+
+namespace imm::cli {
+
+using Clock = std::chrono::steady_clock;
+
+inline double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// At most this many rows in the tables printed on stdout (the JSON has everything).
+inline constexpr std::size_t kMaxTableRows = 40;
+
+// ---- small text helpers (cli.cpp) -------------------------------------------------------------
+
+std::string lower(std::string s);
+/// The extension with its dot, lower case (".obj").
+std::string extension_of(const std::string& path);
+/// "1 cell", "3 cells", "2 patches" (with `words` as the plural).
+std::string plural(std::size_t n, const std::string& word, const std::string& words = "");
+/// "0.52 ms", "12.3 ms", "1234 ms".
+std::string format_ms(double seconds);
+
+// ---- the command line --------------------------------------------------------------------------
+
+/// A parsed command line: positional arguments, options with values, flags.
+struct CommandLine {
+  std::vector<std::string> positional;
+  std::map<std::string, std::string> values;
+  std::set<std::string> flags;
+  bool help = false;
+
+  [[nodiscard]] bool has(const std::string& name) const {
+    return flags.count(name) != 0 || values.count(name) != 0;
+  }
+  [[nodiscard]] std::optional<std::string> value(const std::string& name) const {
+    const auto it = values.find(name);
+    if (it == values.end()) return std::nullopt;
+    return it->second;
+  }
+};
+
+/// Prints "immerse COMMAND: message", the command's usage line and a pointer to its --help.
+/// @return kExitUsage.
+int usage_error(const CliEnvironment& env, const std::string& command, const std::string& message);
+
+/// The search budgets and count asked for on the command line.
+struct SearchRequest {
+  std::size_t max_immersions = 1;
+  std::size_t max_states = SearchOptions{}.max_states;
+  double time_limit = 0.0;
+};
+
+// ---- one run: timings, counts, written files -------------------------------------------------
+
+class Session {
+ public:
+  explicit Session(const CliEnvironment& env) : env_(env) {}
+
+  [[nodiscard]] const CliEnvironment& env() const { return env_; }
+  std::ostream& out() const { return env_.out; }
+  std::ostream& err() const { return env_.err; }
+  [[nodiscard]] bool show_progress() const { return env_.show_progress; }
+  /// A progress callback printing "immerse: <stage>: message" ("immerse: message" for an empty
+  /// stage, when the library's messages name their stages) when progress is wanted, else empty.
+  [[nodiscard]] LogCallback progress(const std::string& stage) const {
+    if (!show_progress()) return {};
+    const std::string prefix = "immerse: " + (stage.empty() ? std::string() : stage + ": ");
+    return [this, prefix](const std::string& m) { err() << prefix << m << '\n'; };
+  }
+
+  /// Runs f() and adds its wall time to `stage` (stages are listed in first-use order).
+  template <class F>
+  auto timed(const std::string& stage, F&& f) {
+    const Clock::time_point start = Clock::now();
+    struct Adder {
+      Session& session;
+      const std::string& stage;
+      Clock::time_point start;
+      ~Adder() { session.add_time(stage, seconds_since(start)); }
+    } adder{*this, stage, start};
+    return f();
+  }
+  void add_time(const std::string& stage, double seconds) {
+    for (auto& [name, total] : stages_) {
+      if (name == stage) {
+        total += seconds;
+        return;
+      }
+    }
+    stages_.emplace_back(stage, seconds);
+  }
+  [[nodiscard]] Json timings_json() const {
+    Json t = Json::object();
+    for (const auto& [name, total] : stages_) t.set(name, total * 1e3);
+    return t;
+  }
+
+  /// What the summary line says before the timings ("4 cells, 8 patches, ...").
+  void set_counts(std::string text) { counts_ = std::move(text); }
+  void enable_summary() { summary_ = true; }
+
+  /// Writes `content` to `path` atomically (creating parent directories), records it for the
+  /// listing. @return false (after printing why) on failure.
+  bool write(const std::string& path, const std::string& content, const std::string& what) {
+    return timed("write", [&] {
+      const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+      if (!parent.empty()) {
+        const WriteStatus dir = ensure_directory(parent.string());
+        if (!dir.ok()) {
+          err() << "immerse: " << dir.error << '\n';
+          return false;
+        }
+      }
+      const WriteStatus status = write_file_atomic(path, content);
+      if (!status.ok()) {
+        err() << "immerse: " << status.error << '\n';
+        return false;
+      }
+      written_.emplace_back(path, what);
+      return true;
+    });
+  }
+  [[nodiscard]] const std::vector<std::pair<std::string, std::string>>& written() const {
+    return written_;
+  }
+
+  void print_summary() const {
+    if (!summary_) return;
+    std::ostringstream os;
+    os << "immerse: " << (counts_.empty() ? std::string("done") : counts_);
+    if (!stages_.empty()) {
+      os << " |";
+      for (std::size_t i = 0; i < stages_.size(); ++i)
+        os << (i ? ", " : " ") << stages_[i].first << ' ' << format_ms(stages_[i].second);
+    }
+    env_.err << os.str() << '\n';
+  }
+
+ private:
+  const CliEnvironment& env_;
+  std::vector<std::pair<std::string, double>> stages_;
+  std::string counts_;
+  bool summary_ = false;
+  std::vector<std::pair<std::string, std::string>> written_;
+};
+
+/// "wrote PATH  what" for every file written since index `from`.
+void print_written(Session& s, std::size_t from = 0);
+
+/// "P0 P3* P7" (* = the patch disagrees with the cell), cut after about 40 characters.
+std::string b_patch_list(std::span<const BPatch> b_patches);
+
+/// "immerse: invalid input 'PATH': N defects" and every defect, on stderr; sets the summary.
+void print_defects(Session& s, const std::string& path, const ValidationReport& report);
+
+// ---- search verdicts ------------------------------------------------------------------------
+
+/// The library's search options for a request (progress forwarded when wanted).
+SearchOptions search_options(const Session& s, const SearchRequest& request);
+
+/// "2 immersions", "at least 2 immersions", "search budget exhausted" for the summary line.
+std::string immersion_counts(const SearchResult& r);
+
+/// The verdict line for a search without immersions (exit 3), on stderr, ending with `hint`.
+void print_no_immersion(Session& s, const std::string& path, const SearchResult& r,
+                        const std::string& hint = "");
+
+/// "DESCRIPTION: immersible, N immersions (...)" and one line per immersion, on stdout.
+/// @pre r.status == Immersible.
+void print_immersion_list(Session& s, const std::string& description, const SearchResult& r,
+                          const SearchRequest& request);
+
+// ---- JSON ----------------------------------------------------------------------------------
+
+/// Every defect: kind, stage, message, `facet_key` (segments / triangles), vertices, points.
+Json defects_json(const ValidationReport& report, const std::string& facet_key);
+Json conflict_json(const Conflict& c);
+Json immersion_json(const Immersion& im, std::size_t index);
+Json stats_json(const SearchStats& s);
+inline Json cell_id_json(CellId c) { return c.is_valid() ? Json(c.value()) : Json(); }
+
+/// The report of a search: input, status, count, completeness, statistics, conflict, immersions.
+Json search_json(Json input, const SearchResult& r, const Session& s);
+
+/// "4 cells, 8 patches, 2 arcs".
+template <int D>
+std::string complex_counts(const CellComplex<D>& c) {
+  return plural(c.cell_count(), "cell") + ", " + plural(c.patch_count(), "patch", "patches") +
+         ", " + plural(c.arc_count(), "arc");
+}
+
+/// Where the dimension adds its geometry to the complex's JSON (each may be empty).
+struct ComplexJsonHooks {
+  std::function<void(Json&, RegionId)> region;  ///< measure (area / volume), sample, genus, ...
+  std::function<void(Json&, PatchId)> patch;    ///< e.g. triangle count
+  std::function<void(Json&, ArcId)> arc;        ///< e.g. the crossing point
+  std::string junction_key = "junction_patches";
+};
+
+/// Adds the combinatorial cell complex (paper §4) to the object j: regions (id, winding, cell,
+/// simple connectivity), cells (region, winding, B-patches with agreement, self-touching arcs),
+/// patches (positive/negative region, inner/outer cell, arcs), arcs (the four junction patches in
+/// cyclic order and the four wedges: wedge k between junction k and k+1).
+template <int D>
+void add_complex_json(Json& j, const CellComplex<D>& complex, const ComplexJsonHooks& hooks) {
+  Json& regions = j.set("regions", Json::array());
+  for (RegionId r : ids<RegionId>(complex.region_count())) {
+    Json& o = regions.push(Json::object());
+    o.set("id", r.value());
+    o.set("winding", complex.winding_number(r));
+    o.set("cell", cell_id_json(complex.cell_of(r)));
+    o.set("simply_connected", complex.is_simply_connected(r));
+    if (hooks.region) hooks.region(o, r);
+  }
+  Json& cells = j.set("cells", Json::array());
+  for (CellId c : ids<CellId>(complex.cell_count())) {
+    Json& o = cells.push(Json::object());
+    o.set("id", c.value());
+    o.set("region", complex.region_of(c).value());
+    o.set("winding", complex.winding_number(c));
+    Json& b = o.set("b_patches", Json::array());
+    for (const BPatch& bp : complex.b_patches(c)) {
+      Json& e = b.push(Json::object());
+      e.set("patch", bp.patch.value());
+      e.set("agrees", bp.agrees);
+    }
+    Json& touching = o.set("self_touching_arcs", Json::array());
+    for (ArcId a : complex.self_touching_arcs(c)) touching.push(a.value());
+  }
+  Json& patches = j.set("patches", Json::array());
+  for (PatchId p : ids<PatchId>(complex.patch_count())) {
+    Json& o = patches.push(Json::object());
+    o.set("id", p.value());
+    o.set("positive_region", complex.sides(p).positive.value());
+    o.set("negative_region", complex.sides(p).negative.value());
+    o.set("inner_cell", cell_id_json(complex.inner_cell(p)));
+    o.set("outer_cell", cell_id_json(complex.outer_cell(p)));
+    if (hooks.patch) hooks.patch(o, p);
+    Json& arcs = o.set("arcs", Json::array());
+    for (ArcId a : complex.arcs_of(p)) arcs.push(a.value());
+  }
+  Json& arcs = j.set("arcs", Json::array());
+  for (ArcId a : ids<ArcId>(complex.arc_count())) {
+    const ArcJunctions& junctions = complex.arc(a);
+    Json& o = arcs.push(Json::object());
+    o.set("id", a.value());
+    if (hooks.arc) hooks.arc(o, a);
+    Json& order = o.set(hooks.junction_key, Json::array());
+    for (PatchId p : junctions.patch) order.push(p.value());
+    Json& wedges = o.set("wedge_regions", Json::array());
+    for (RegionId r : junctions.wedge) wedges.push(r.value());
+  }
+}
+
+// ---- 3D commands (core/cli_surface.cpp) -------------------------------------------------------
+
+/// True when the file is a 3D surface: .off/.ply/.stl, or an OBJ with faces and no 'l' lines.
+bool is_surface_file(const std::string& path);
+
+/// `immerse check IN` on a surface. @return the exit code.
+int check_surface(Session& s, const std::string& path);
+/// `immerse cells IN [--json OUT] [--cut-mesh OUT.obj]` on a surface.
+int cells_surface(Session& s, const CommandLine& cl);
+/// `immerse immersions IN [...]` on a surface (helper boxes for self-connecting cells).
+int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& request);
+
+/// One line of `immerse generate --list`.
+struct GeneratorEntry {
+  std::string name;
+  std::string params;  ///< "N SEED", "[N]"
+  std::string description;
+};
+/// The 3D generators (surfaces), for `generate --list`.
+std::vector<GeneratorEntry> surface_generator_list();
+/// True when `name` is a 3D generator.
+bool is_surface_generator(const std::string& name);
+/// `immerse generate NAME [PARAMS] [-o OUT]` for a 3D generator. @return the exit code.
+int command_generate_surface(Session& s, const std::string& name,
+                             const std::vector<std::string>& params,
+                             const std::optional<std::string>& out);
+
+}  // namespace imm::cli

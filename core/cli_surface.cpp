@@ -1,0 +1,472 @@
+// The 3D commands of `immerse` (core/cli.h): check, cells, immersions and generate on closed
+// triangle meshes (OBJ, OFF, PLY, STL). The 2D commands dispatch here when the input is a
+// surface (is_surface_file); messages, exit codes, JSON shapes and the summary line follow the
+// 2D ones (core/cli.cpp), with triangles where 2D has segments and volumes where it has areas.
+//
+// Library results map to exit codes as in 2D: a ValidationReport with defects (the reader's, the
+// validator's, or the exact intersection's non-generic contacts) -> 2; an inversion, a proven
+// non-immersible input, a self-connecting cell left uncut, an exhausted budget -> 3.
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/cli_common.h"
+#include "dim3/complex3.h"
+#include "dim3/generators3.h"
+#include "dim3/self_connecting.h"
+#include "dim3/surface.h"
+
+namespace imm::cli {
+
+bool is_surface_file(const std::string& path) {
+  const std::string ext = extension_of(path);
+  if (ext == ".off" || ext == ".ply" || ext == ".stl") return true;
+  if (ext != ".obj") return false;
+  std::ifstream in(path);
+  if (!in) return false;  // the 2D reader reports it
+  bool faces = false, lines = false;
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t i = line.find_first_not_of(" \t");
+    if (i == std::string::npos || i + 1 >= line.size()) continue;
+    if (line[i + 1] != ' ' && line[i + 1] != '\t') continue;
+    faces = faces || line[i] == 'f';
+    lines = lines || line[i] == 'l';
+  }
+  return faces && !lines;
+}
+
+namespace {
+
+using dim3::Box3;
+using dim3::Complex3;
+using dim3::Point3;
+
+/// Everything read and built from one surface file.
+struct PreparedSurface {
+  std::string path;
+  dim3::Surface surface;
+  ValidationReport report;                    ///< defects: exit 2
+  std::optional<dim3::Inversion3> inversion;  ///< set: exit 3 (check: a note)
+  std::shared_ptr<Complex3> complex;
+};
+
+Json point_json(const Point3& p) {
+  Json a = Json::array();
+  for (double x : p) a.push(x);
+  return a;
+}
+
+Json box_json(const Box3& b) {
+  Json j = Json::object();
+  j.set("lo", point_json(b.lo));
+  j.set("hi", point_json(b.hi));
+  return j;
+}
+
+Json input_json(const PreparedSurface& p) {
+  Json j = Json::object();
+  j.set("path", p.path);
+  j.set("dimension", 3);
+  j.set("triangles", p.surface.triangle_count());
+  j.set("vertices", p.surface.vertex_count());
+  j.set("reversed", p.complex ? Json(p.complex->reversed) : Json());
+  return j;
+}
+
+std::string describe_input(const PreparedSurface& p) {
+  return "'" + p.path + "': 3D input, " + plural(p.surface.triangle_count(), "triangle") + ", " +
+         plural(p.surface.vertex_count(), "vertex", "vertices");
+}
+
+Json inversion_json(const dim3::Inversion3& inv) {
+  Json j = Json::object();
+  j.set("region", inv.region.value());
+  j.set("winding", inv.winding_number);
+  Json& triangles = j.set("triangles", Json::array());
+  for (long t : inv.triangles) triangles.push(t);
+  j.set("message", inv.message);
+  return j;
+}
+
+/// JSON for an input that never reached the search (defects or inversion).
+Json early_json(const PreparedSurface& p, const Session& s) {
+  Json j = Json::object();
+  j.set("input", input_json(p));
+  if (!p.report.ok()) {
+    j.set("status", "invalid-input");
+    j.set("defects", defects_json(p.report, "triangles"));
+  } else if (p.inversion) {
+    j.set("status", "inverted");
+    j.set("inversion", inversion_json(*p.inversion));
+  }
+  j.set("timings_ms", s.timings_json());
+  return j;
+}
+
+void print_inversion(Session& s, const PreparedSurface& p) {
+  s.err() << "immerse: '" << p.path << "' is not immersible: " << p.inversion->message << '\n';
+}
+
+void print_reversed_note(Session& s, const PreparedSurface& p) {
+  s.err() << "immerse: note: every winding number of '" << p.path
+          << "' is <= 0 (inside-out surface): the input was reversed; winding numbers and patch "
+             "normals refer to the reversed surface, vertex and triangle ids keep the file order\n";
+}
+
+/// Reads the file. @return kExitOk, or kExitInvalidInput after printing every read defect.
+int read_input(Session& s, PreparedSurface& p) {
+  dim3::SurfaceReadResult read = s.timed("read", [&] { return dim3::read_surface(p.path); });
+  p.surface = std::move(read.surface);
+  p.report = std::move(read.report);
+  if (!p.report.ok()) {
+    print_defects(s, p.path, p.report);
+    return kExitInvalidInput;
+  }
+  return kExitOk;
+}
+
+/// Reads, validates and builds the cell complex. @return kExitOk, or kExitInvalidInput after
+/// printing every defect. An inversion is left in p.inversion for the caller.
+int prepare_surface(Session& s, PreparedSurface& p, bool exact_volumes) {
+  if (const int code = read_input(s, p); code != kExitOk) return code;
+  dim3::BuildOptions3 options;
+  options.exact_volumes = exact_volumes;
+  options.progress = s.progress("");  // the library's messages name their stages
+  dim3::BuildResult3 built =
+      s.timed("complex", [&] { return dim3::build_complex3(p.surface, options); });
+  if (!built.report.ok()) {
+    p.report = std::move(built.report);
+    print_defects(s, p.path, p.report);
+    return kExitInvalidInput;
+  }
+  p.inversion = std::move(built.inversion);
+  p.complex = std::move(built.complex);
+  if (p.complex && p.complex->reversed) print_reversed_note(s, p);
+  if (p.inversion) {
+    s.set_counts("inverted region, not immersible");
+  } else if (p.complex) {
+    s.set_counts(complex_counts(p.complex->complex));
+  } else {
+    throw InvariantError("build_complex3 returned neither defects, an inversion nor a complex");
+  }
+  return kExitOk;
+}
+
+/// As prepare_surface, for the commands that need a non-inverted complex: on failure prints the
+/// verdict, writes the early JSON report when one was asked for, and @return the exit code.
+int prepare_complex_or_report(Session& s, PreparedSurface& p, bool exact_volumes,
+                              const std::optional<std::string>& json_path) {
+  int code = prepare_surface(s, p, exact_volumes);
+  if (code == kExitOk && p.inversion) {
+    print_inversion(s, p);
+    code = kExitNotImmersible;
+  }
+  if (code != kExitOk) {
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report"))
+      return kExitInternalError;
+    print_written(s);
+  }
+  return code;
+}
+
+// ---- cells ------------------------------------------------------------------------------------
+
+Json counts_json(const PreparedSurface& p) {
+  const Complex3& c3 = *p.complex;
+  const CellComplex<3>& complex = c3.complex;
+  Json j = Json::object();
+  j.set("regions", complex.region_count());
+  j.set("cells", complex.cell_count());
+  j.set("patches", complex.patch_count());
+  j.set("arcs", complex.arc_count());
+  j.set("max_winding", complex.max_winding_number());
+  j.set("triangles", p.surface.triangle_count());
+  j.set("vertices", p.surface.vertex_count());
+  j.set("components", c3.components);
+  j.set("groups", c3.groups);
+  j.set("intersecting_pairs", c3.intersecting_pairs);
+  j.set("intersection_points", c3.intersection_points);
+  j.set("triple_points", c3.triple_points);
+  j.set("cut_edges", c3.cut_edges);
+  j.set("cut_vertices", c3.cut_vertices.size());
+  j.set("cut_triangles", c3.cut_triangles.size());
+  return j;
+}
+
+Json cells_report_json(const PreparedSurface& p, const Session& s) {
+  const Complex3& c3 = *p.complex;
+  const CellComplex<3>& complex = c3.complex;
+  Json j = Json::object();
+  j.set("input", input_json(p));
+  j.set("status", "ok");
+  j.set("counts", counts_json(p));
+  j.set("volumes_exact", c3.exact_volumes);
+  Rational total = 0;
+  for (RegionId r : ids<RegionId>(complex.region_count()))
+    total += complex.measure(r) * complex.winding_number(r);
+  // Invariant 1 (DESIGN §4): equals the signed volume enclosed by the input.
+  j.set("winding_weighted_volume", to_double(total));
+  j.set("winding_weighted_volume_exact", c3.exact_volumes ? Json(to_string(total)) : Json());
+  ComplexJsonHooks hooks;
+  hooks.region = [&](Json& o, RegionId r) {
+    // The unbounded region has no volume (the complex stores 0 for it).
+    const bool bounded = r != kOutsideRegion;
+    o.set("volume", bounded ? Json(to_double(complex.measure(r))) : Json());
+    o.set("volume_exact",
+          bounded && c3.exact_volumes ? Json(to_string(complex.measure(r))) : Json());
+    o.set("genus", c3.region_genus[r]);
+    o.set("box", r == kOutsideRegion ? Json() : box_json(c3.region_box[r]));
+  };
+  hooks.patch = [&](Json& o, PatchId q) { o.set("triangles", c3.patch_triangle_count[q]); };
+  hooks.arc = [&](Json& o, ArcId a) {
+    const std::vector<std::uint32_t>& points = c3.arc_points[a];
+    o.set("closed", points.size() > 1 && points.front() == points.back());
+    o.set("point_count", points.size());  // a closed loop repeats its first point
+    o.set("sample", points.empty() ? Json() : point_json(c3.points[points[points.size() / 2]]));
+  };
+  hooks.junction_key = "junction_patches";
+  add_complex_json(j, complex, hooks);
+  j.set("timings_ms", s.timings_json());
+  return j;
+}
+
+void print_cell_table(Session& s, const PreparedSurface& p) {
+  const Complex3& c3 = *p.complex;
+  const CellComplex<3>& c = c3.complex;
+  s.out() << plural(c.region_count(), "region") << ", " << plural(c.cell_count(), "cell") << ", "
+          << plural(c.patch_count(), "patch", "patches") << ", " << plural(c.arc_count(), "arc")
+          << " (intersection curves), max winding number " << c.max_winding_number() << '\n';
+  s.out() << plural(c3.components, "component") << ", "
+          << plural(c3.intersecting_pairs, "intersecting triangle pair") << ", "
+          << plural(c3.intersection_points, "intersection point") << ", "
+          << plural(c3.triple_points, "triple point") << ", "
+          << plural(c3.cut_triangles.size(), "cut triangle") << '\n';
+  s.out() << " cell  region  winding  genus  simply-connected        volume  "
+             "B-patches (* = disagrees)\n";
+  std::size_t rows = 0;
+  for (CellId cell : ids<CellId>(c.cell_count())) {
+    if (++rows > kMaxTableRows) {
+      s.out() << " ... and " << (c.cell_count() - kMaxTableRows) << " more cells (see --json)\n";
+      break;
+    }
+    const RegionId r = c.region_of(cell);
+    char line[160];
+    std::snprintf(line, sizeof line, "%5d  %6d  %7d  %5d  %16s  %12.6g  ", cell.value(), r.value(),
+                  c.winding_number(cell), c3.region_genus[r],
+                  c.is_simply_connected(r) ? "yes" : "no", to_double(c.measure(r)));
+    s.out() << line << b_patch_list(c.b_patches(cell)) << '\n';
+  }
+}
+
+// ---- immersions ------------------------------------------------------------------------------
+
+/// The helper boxes' part of a report (empty when none were needed).
+Json helper_boxes_json(const dim3::Immersed3& im) {
+  Json boxes = Json::array();
+  for (const Box3& b : im.helper_boxes) boxes.push(box_json(b));
+  return boxes;
+}
+
+std::string box_text(const Box3& b) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, "[%.6g, %.6g] x [%.6g, %.6g] x [%.6g, %.6g]", b.lo[0],
+                b.hi[0], b.lo[1], b.hi[1], b.lo[2], b.hi[2]);
+  return buffer;
+}
+
+/// The defects of a rebuild with helper boxes may name box triangles: say which ids those are.
+bool names_helper_triangles(const ValidationReport& report, std::size_t input_triangles) {
+  for (const Defect& d : report.defects) {
+    for (long f : d.facets) {
+      if (f >= static_cast<long>(input_triangles)) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+int check_surface(Session& s, const std::string& path) {
+  PreparedSurface p;
+  p.path = path;
+  if (const int code = prepare_surface(s, p, /*exact_volumes=*/false); code != kExitOk) return code;
+  s.out() << describe_input(p) << ": valid";
+  if (p.inversion) {
+    s.out()
+        << "\nnote: " << p.inversion->message
+        << "\n(the input is valid but not immersible: 'immerse immersions' exits with code 3)\n";
+    return kExitOk;
+  }
+  const Complex3& c3 = *p.complex;
+  const CellComplex<3>& c = c3.complex;
+  s.out() << " (" << plural(c3.components, "component") << ", "
+          << plural(c3.intersecting_pairs, "intersecting triangle pair") << ", "
+          << plural(c.cell_count(), "cell") << ", max winding number " << c.max_winding_number()
+          << (c3.reversed ? ", reversed" : "") << ")\n";
+  return kExitOk;
+}
+
+int cells_surface(Session& s, const CommandLine& cl) {
+  PreparedSurface p;
+  p.path = cl.positional[0];
+  const auto json_path = cl.value("--json");
+  if (const int code = prepare_complex_or_report(s, p, /*exact_volumes=*/true, json_path);
+      code != kExitOk) {
+    return code;
+  }
+  s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << '\n';
+  print_cell_table(s, p);
+  if (json_path &&
+      !s.write(*json_path, cells_report_json(p, s).dump(), "the cell complex (JSON)")) {
+    return kExitInternalError;
+  }
+  if (auto path = cl.value("--cut-mesh");
+      path && !s.write(*path, dim3::format_cut_mesh_obj(*p.complex),
+                       "the cut mesh (OBJ, one group per patch)")) {
+    return kExitInternalError;
+  }
+  print_written(s);
+  return kExitOk;
+}
+
+int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& request) {
+  PreparedSurface p;
+  p.path = cl.positional[0];
+  const auto json_path = cl.value("--json");
+  const auto fail_early = [&](int code) {
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report"))
+      return kExitInternalError;
+    print_written(s);
+    return code;
+  };
+  if (const int code = read_input(s, p); code != kExitOk) return fail_early(code);
+
+  dim3::ImmerseOptions3 options;
+  options.build.exact_volumes = false;      // the search reads no volume
+  options.build.progress = s.progress("");  // the library's messages name their stages
+  options.search = search_options(s, request);
+  const bool boxes_allowed = !cl.has("--no-helper-boxes");
+  if (!boxes_allowed) options.max_boxes = 0;
+  const dim3::Immersed3 im = dim3::immerse_surface(p.surface, options);
+  s.add_time("complex", im.build_seconds);
+  for (const std::string& note : im.notes) s.err() << "immerse: note: " << note << '\n';
+
+  if (!im.build.report.ok()) {
+    p.report = im.build.report;
+    print_defects(s, p.path, p.report);
+    if (names_helper_triangles(p.report, im.input_triangles)) {
+      s.err() << "immerse: note: triangles from id " << im.input_triangles
+              << " on belong to the helper boxes added for self-connecting cells; run with "
+                 "--no-helper-boxes to see the verdict without them\n";
+    }
+    return fail_early(kExitInvalidInput);
+  }
+  p.inversion = im.build.inversion;
+  if (p.inversion) {
+    s.set_counts("inverted region, not immersible");
+    print_inversion(s, p);
+    return fail_early(kExitNotImmersible);
+  }
+  if (!im.build.complex)
+    throw InvariantError("immerse_surface returned neither defects, an inversion nor a complex");
+  p.complex = im.build.complex;
+  if (p.complex->reversed) print_reversed_note(s, p);
+  s.add_time("search", im.search_seconds);
+
+  const SearchResult& r = im.search;
+  const CellComplex<3>& complex = p.complex->complex;
+  const std::size_t boxes = im.helper_boxes.size();
+  s.set_counts(complex_counts(complex) + ", " + immersion_counts(r) +
+               (boxes > 0 ? ", " + plural(boxes, "helper box", "helper boxes") : ""));
+  if (r.status != ImmersionStatus::Immersible) {
+    std::string hint;
+    if (r.status == ImmersionStatus::SelfConnectingCell && !boxes_allowed) {
+      hint = " (helper boxes disabled by --no-helper-boxes)";
+    } else if (r.status == ImmersionStatus::SelfConnectingCell) {
+      hint = " (still self-connecting after " + plural(boxes, "helper box", "helper boxes") + ")";
+    }
+    if (boxes > 0) {
+      hint += " [cell, patch and arc ids refer to the input with " +
+              plural(boxes, "helper box", "helper boxes") + " added; see the notes above]";
+    }
+    print_no_immersion(s, p.path, r, hint);
+  } else {
+    std::string description = describe_input(p) + (p.complex->reversed ? " (reversed)" : "");
+    if (boxes > 0) description += " with " + plural(boxes, "helper box", "helper boxes");
+    print_immersion_list(s, description, r, request);
+    std::size_t first = im.input_triangles;
+    for (std::size_t k = 0; k < boxes; ++k) {
+      const std::size_t count = dim3::box_surface(im.helper_boxes[k]).triangle_count();
+      s.out() << "  helper box " << k << ": " << box_text(im.helper_boxes[k]) << " (triangles "
+              << first << ".." << first + count - 1
+              << "; cuts a self-connecting cell, paper §6.2)\n";
+      first += count;
+    }
+  }
+  if (json_path) {
+    Json input = input_json(p);
+    input.set("input_triangles", im.input_triangles);
+    input.set("input_vertices", im.input_vertices);
+    Json j = search_json(std::move(input), r, s);
+    Json& counts = j.set("counts", Json::object());
+    counts.set("regions", complex.region_count());
+    counts.set("cells", complex.cell_count());
+    counts.set("patches", complex.patch_count());
+    counts.set("arcs", complex.arc_count());
+    counts.set("max_winding", complex.max_winding_number());
+    j.set("helper_boxes", helper_boxes_json(im));
+    Json& notes = j.set("notes", Json::array());
+    for (const std::string& note : im.notes) notes.push(note);
+    j.set("timings_ms", s.timings_json());
+    if (!s.write(*json_path, j.dump(), "the immersions (JSON)")) return kExitInternalError;
+  }
+  print_written(s);
+  return r.status == ImmersionStatus::Immersible ? kExitOk : kExitNotImmersible;
+}
+
+// ---- generate ---------------------------------------------------------------------------------
+
+std::vector<GeneratorEntry> surface_generator_list() {
+  std::vector<GeneratorEntry> out;
+  for (const auto& g : dim3::surface_generators()) out.push_back({g.name, g.params, g.description});
+  return out;
+}
+
+bool is_surface_generator(const std::string& name) {
+  return dim3::find_surface_generator(name) != nullptr;
+}
+
+int command_generate_surface(Session& s, const std::string& name,
+                             const std::vector<std::string>& params,
+                             const std::optional<std::string>& out) {
+  const std::string ext = out ? extension_of(*out) : ".obj";
+  if (ext != ".obj" && ext != ".off") {
+    return usage_error(s.env(), "generate",
+                       "-o " + *out + ": a surface is written as .obj or .off");
+  }
+  const Clock::time_point start = Clock::now();
+  dim3::SurfaceGenerateResult g = dim3::generate_surface(name, params);
+  if (!g.ok()) return usage_error(s.env(), "generate", g.error);
+  s.enable_summary();
+  s.add_time("generate", seconds_since(start));
+  const std::string counts = plural(g.surface.triangle_count(), "triangle") + ", " +
+                             plural(g.surface.vertex_count(), "vertex", "vertices");
+  s.set_counts("generated '" + name + "': " + counts);
+  const std::string text =
+      ext == ".off" ? dim3::format_off(g.surface) : dim3::format_obj(g.surface);
+  if (!out) {
+    s.out() << text;
+    return kExitOk;
+  }
+  if (!s.write(*out, text, "surface '" + name + "' (" + counts + ")")) return kExitInternalError;
+  print_written(s);
+  return kExitOk;
+}
+
+}  // namespace imm::cli

@@ -1,0 +1,1369 @@
+#include "dim3/generators3.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <unordered_map>
+
+#include "core/diagnostics.h"
+
+namespace imm::dim3 {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kCapRings = 3;  ///< rings of a rounded cap (then the pole)
+
+// ---- vectors and rigid motions ----------------------------------------------------------------
+
+Point3 plus(const Point3& a, const Point3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+Point3 minus(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Point3 times(double s, const Point3& a) { return {s * a[0], s * a[1], s * a[2]}; }
+double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Point3 cross(const Point3& a, const Point3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double length(const Point3& a) { return std::sqrt(dot(a, a)); }
+Point3 normalized(const Point3& a) { return times(1.0 / length(a), a); }
+
+/// x -> rotation * x + shift.
+struct Motion {
+  std::array<Point3, 3> rows{Point3{1, 0, 0}, Point3{0, 1, 0}, Point3{0, 0, 1}};
+  Point3 shift{0, 0, 0};
+  [[nodiscard]] Point3 apply(const Point3& p) const {
+    return {dot(rows[0], p) + shift[0], dot(rows[1], p) + shift[1], dot(rows[2], p) + shift[2]};
+  }
+};
+
+/// Rotation by `angle` about `axis` (Rodrigues), then the shift.
+Motion rotation(const Point3& axis, double angle, const Point3& shift = {0, 0, 0}) {
+  const Point3 k = normalized(axis);
+  const double c = std::cos(angle), s = std::sin(angle), t = 1 - c;
+  Motion m;
+  m.rows = {Point3{c + t * k[0] * k[0], t * k[0] * k[1] - s * k[2], t * k[0] * k[2] + s * k[1]},
+            Point3{t * k[1] * k[0] + s * k[2], c + t * k[1] * k[1], t * k[1] * k[2] - s * k[0]},
+            Point3{t * k[2] * k[0] - s * k[1], t * k[2] * k[1] + s * k[0], c + t * k[2] * k[2]}};
+  m.shift = shift;
+  return m;
+}
+
+/// The small "odd" motion given to component `k` of a shape: a rotation by a few hundredths of
+/// a radian about an irrational axis and a shift of a few thousandths. Visually nothing, but it
+/// breaks every symmetry of the construction (mirror planes, equal sample angles) that could
+/// put a vertex exactly on another sheet. The rotation is about `about` (the component's own
+/// centre), so the component stays where the construction put it.
+Motion odd_motion(int k, const Point3& about = {0, 0, 0}) {
+  const double a = 0.0123 + 0.0031 * k;
+  Motion m = rotation({1.0 + 0.31 * k, std::numbers::sqrt2, std::numbers::phi + 0.17 * k}, a);
+  const Point3 turned = m.apply(about);
+  m.shift =
+      plus(minus(about, turned), Point3{0.00137 * (k + 1), -0.00211 * (k + 1), 0.00173 * (k + 1)});
+  return m;
+}
+
+/// Appends `part` moved by `motion`.
+void append(Surface& out, const Surface& part, const Motion& motion) {
+  const auto base = static_cast<std::uint32_t>(out.vertices.size());
+  for (const Point3& p : part.vertices) out.vertices.push_back(motion.apply(p));
+  for (const Triangle& t : part.triangles) {
+    out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    out.source_face.push_back(static_cast<std::uint32_t>(out.source_face.size()));
+  }
+}
+
+// ---- sweeps -----------------------------------------------------------------------------------
+
+/// A ring of a sweep: `sides` points centre + radius (cos phi u + sin phi v), phi = phase +
+/// 2 pi j / sides. (u, v) is an orthonormal pair; the sweep advances along u x v.
+struct Ring {
+  Point3 centre;
+  Point3 u;
+  Point3 v;
+  double radius = 1.0;
+  double phase = 0.0;
+};
+
+/// Radius factor of the ring point at angle phi of ring `ring` (1 when absent).
+using RadiusScale = std::function<double(std::size_t ring, double phi)>;
+
+/// Ring `index` starts half a step later every other ring (staggered rings: near-equilateral
+/// triangles) plus an irrational jitter below a tenth of a step, so that no two rings of
+/// different parts of a shape share their sample angles exactly.
+double staggered_phase(std::size_t index, int sides) {
+  const double jitter =
+      0.1 * std::fmod(0.6180339887498949 * static_cast<double>(index) + 0.137, 1.0);
+  return 2 * kPi / sides * (0.5 * static_cast<double>(index & 1U) + jitter);
+}
+
+/// A ring around `centre` perpendicular to `tangent`, with u the part of `reference`
+/// perpendicular to the tangent. @pre reference is not parallel to tangent.
+Ring ring_at(const Point3& centre, const Point3& tangent, const Point3& reference, double radius,
+             double phase) {
+  const Point3 t = normalized(tangent);
+  const Point3 u = normalized(minus(reference, times(dot(reference, t), t)));
+  return {centre, u, cross(t, u), radius, phase};
+}
+
+/// The ring of a surface of revolution around the z axis: profile point (rho, z).
+Ring revolution_ring(double rho, double z, double phase) {
+  return {{0, 0, z}, {1, 0, 0}, {0, 1, 0}, rho, phase};
+}
+
+Point3 ring_point(const Ring& ring, int j, int sides, double scale) {
+  const double phi = ring.phase + 2 * kPi * j / sides;
+  const double r = ring.radius * scale;
+  return plus(ring.centre,
+              plus(times(r * std::cos(phi), ring.u), times(r * std::sin(phi), ring.v)));
+}
+
+/// Vertices of the rings, then the bands between consecutive rings: quad (i, j), (i, j + 1),
+/// (i + 1, j + 1), (i + 1, j) as two triangles split along its shorter diagonal. With the sweep
+/// advancing along u x v, their normals point away from the centreline (outward); for a surface of
+/// revolution the same holds when the profile runs counter-clockwise in the (rho, z) half plane.
+Surface sweep_bands(const std::vector<Ring>& rings, int sides, bool closed,
+                    const RadiusScale& scale) {
+  Surface s;
+  s.vertices.reserve(rings.size() * static_cast<std::size_t>(sides) + 2);
+  for (std::size_t i = 0; i < rings.size(); ++i) {
+    for (int j = 0; j < sides; ++j) {
+      const double phi = rings[i].phase + 2 * kPi * j / sides;
+      s.vertices.push_back(ring_point(rings[i], j, sides, scale ? scale(i, phi) : 1.0));
+    }
+  }
+  auto id = [&](std::size_t i, int j) {
+    return static_cast<std::uint32_t>((i % rings.size()) * static_cast<std::size_t>(sides) +
+                                      static_cast<std::size_t>(j % sides));
+  };
+  const std::size_t bands = closed ? rings.size() : rings.size() - 1;
+  for (std::size_t i = 0; i < bands; ++i) {
+    for (int j = 0; j < sides; ++j) {
+      const std::uint32_t a = id(i, j), b = id(i, j + 1), c = id(i + 1, j + 1), d = id(i + 1, j);
+      // The shorter diagonal: staggered rings are offset by half a step, alternately forwards
+      // and backwards, and the long diagonal would fold coarse tubes.
+      if (length(minus(s.vertices[a], s.vertices[c])) <=
+          length(minus(s.vertices[b], s.vertices[d]))) {
+        s.triangles.push_back({a, b, c});
+        s.triangles.push_back({a, c, d});
+      } else {
+        s.triangles.push_back({a, b, d});
+        s.triangles.push_back({b, c, d});
+      }
+    }
+  }
+  return s;
+}
+
+/// A closed sweep (a torus-like tube). 2 * sides * rings triangles.
+Surface closed_sweep(const std::vector<Ring>& rings, int sides, const RadiusScale& scale = {}) {
+  Surface s = sweep_bands(rings, sides, true, scale);
+  s.source_face.resize(s.triangles.size());
+  for (std::size_t t = 0; t < s.triangles.size(); ++t)
+    s.source_face[t] = static_cast<std::uint32_t>(t);
+  return s;
+}
+
+/// A sweep closed by a pole vertex before the first ring and one after the last.
+/// 2 * sides * rings triangles.
+Surface capped_sweep(const std::vector<Ring>& rings, int sides, const Point3& start_pole,
+                     const Point3& end_pole) {
+  Surface s = sweep_bands(rings, sides, false, {});
+  const auto first = static_cast<std::uint32_t>(s.vertices.size());
+  s.vertices.push_back(start_pole);
+  s.vertices.push_back(end_pole);
+  const auto last_ring =
+      static_cast<std::uint32_t>((rings.size() - 1) * static_cast<std::size_t>(sides));
+  for (int j = 0; j < sides; ++j) {
+    const auto j0 = static_cast<std::uint32_t>(j), j1 = static_cast<std::uint32_t>((j + 1) % sides);
+    s.triangles.push_back({first, j1, j0});
+    s.triangles.push_back({last_ring + j0, last_ring + j1, first + 1});
+  }
+  s.source_face.resize(s.triangles.size());
+  for (std::size_t t = 0; t < s.triangles.size(); ++t)
+    s.source_face[t] = static_cast<std::uint32_t>(t);
+  return s;
+}
+
+Point3 ring_tangent(const Ring& r) { return cross(r.u, r.v); }
+
+/// A tube along the body rings with rounded caps: kCapRings rings on a quarter circle at each
+/// end, then the pole. The phases continue the staggering of the body.
+Surface round_capped_tube(const std::vector<Ring>& body, int sides) {
+  std::vector<Ring> rings;
+  const Ring& head = body.front();
+  const Ring& tail = body.back();
+  const Point3 t0 = ring_tangent(head), t1 = ring_tangent(tail);
+  std::size_t index = 0;
+  for (int k = kCapRings; k >= 1; --k) {
+    const double psi = k * (kPi / 2) / (kCapRings + 1);
+    Ring r = head;
+    r.centre = minus(head.centre, times(head.radius * std::sin(psi), t0));
+    r.radius = head.radius * std::cos(psi);
+    r.phase = head.phase + staggered_phase(index++, sides);
+    rings.push_back(r);
+  }
+  for (Ring r : body) {
+    r.phase += staggered_phase(index++, sides);
+    rings.push_back(r);
+  }
+  for (int k = 1; k <= kCapRings; ++k) {
+    const double psi = k * (kPi / 2) / (kCapRings + 1);
+    Ring r = tail;
+    r.centre = plus(tail.centre, times(tail.radius * std::sin(psi), t1));
+    r.radius = tail.radius * std::cos(psi);
+    r.phase = tail.phase + staggered_phase(index++, sides);
+    rings.push_back(r);
+  }
+  return capped_sweep(rings, sides, minus(head.centre, times(head.radius, t0)),
+                      plus(tail.centre, times(tail.radius, t1)));
+}
+
+/// A straight capped cylinder from a to b (radius r, `body_rings` >= 2 rings along it).
+Surface cylinder(const Point3& a, const Point3& b, double radius, int sides, int body_rings,
+                 const Point3& reference) {
+  std::vector<Ring> body;
+  const Point3 axis = minus(b, a);
+  for (int i = 0; i < body_rings; ++i) {
+    const double f = static_cast<double>(i) / (body_rings - 1);
+    body.push_back(ring_at(plus(a, times(f, axis)), axis, reference, radius, 0.0));
+  }
+  return round_capped_tube(body, sides);
+}
+
+// ---- seeded randomness (splitmix64: the same numbers on every platform) ----------------------
+
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  /// Uniform in [lo, hi).
+  double uniform(double lo, double hi) {
+    return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53;
+  }
+  /// Uniform on the unit sphere.
+  Point3 direction() {
+    const double z = uniform(-1, 1), a = uniform(0, 2 * kPi), s = std::sqrt(1 - z * z);
+    return {s * std::cos(a), s * std::sin(a), z};
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+/// Draws until `make` returns a generic surface (a degenerate draw is replaced by the next draw
+/// of the same stream; not seen in practice).
+Surface first_generic(std::uint64_t seed, const std::function<Surface(Random&)>& make) {
+  Random random(seed);
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    Surface s = make(random);
+    if (check_generic_surface(s).generic) return s;
+  }
+  IMM_ASSERT(false,
+             "no generic random surface after 100 draws (seed " + std::to_string(seed) + ")");
+  return {};
+}
+
+// ---- a unit sphere as a surface of revolution -------------------------------------------------
+
+Surface unit_sphere(int n) {
+  std::vector<Ring> rings;
+  const int sides = 2 * n;
+  for (int k = 1; k < n; ++k) {
+    const double theta = kPi * k / n;
+    rings.push_back(revolution_ring(std::sin(theta), -std::cos(theta),
+                                    staggered_phase(static_cast<std::size_t>(k), sides)));
+  }
+  return capped_sweep(rings, sides, {0, 0, -1}, {0, 0, 1});
+}
+
+/// A closed profile curve (rho(s), z(s)), s in [0, 1), counter-clockwise, revolved about z.
+Surface revolve_closed(const std::function<std::array<double, 2>(double)>& profile, int samples,
+                       int sides) {
+  std::vector<Ring> rings;
+  for (int i = 0; i < samples; ++i) {
+    const auto [rho, z] = profile((i + 0.3183098861837907) / samples);
+    rings.push_back(revolution_ring(rho, z, staggered_phase(static_cast<std::size_t>(i), sides)));
+  }
+  return closed_sweep(rings, sides);
+}
+
+// ---- the head and the mouth ----------------------------------------------------------------
+
+/// One sweep: head sphere (radius 1, rings perpendicular to x), lip of radius 0.15 forward,
+/// down round a bend of radius 0.3, back towards the chin at z = -0.6 up to x = tip_x, then a
+/// rounded tip.
+Surface head_sweep(int n, double tip_x) {
+  constexpr double kLip = 0.15, kBend = 0.3, kFront = 1.35;
+  const int sides = n;
+  const int head_rings = n / 2;
+  const double theta_end = kPi - std::asin(kLip);
+  const Point3 across{0, 1, 0};  // u of every ring: the centreline lies in the xz plane
+  std::vector<Ring> rings;
+  std::size_t index = 0;
+  for (int k = 1; k <= head_rings; ++k) {
+    const double theta = theta_end * k / head_rings;
+    rings.push_back(ring_at({-std::cos(theta), 0, 0}, {1, 0, 0}, across, std::sin(theta),
+                            staggered_phase(index++, sides)));
+  }
+  // The lip, sampled by arc length: straight, half circle, straight back.
+  const double x0 = std::cos(std::asin(kLip));
+  const double l1 = kFront - x0, l2 = kPi * kBend, l3 = kFront - tip_x;
+  const double total = l1 + l2 + l3;
+  const int lip_rings = n;
+  for (int k = 1; k <= lip_rings; ++k) {
+    const double s = total * k / lip_rings;
+    Point3 c, t;
+    if (s <= l1) {
+      c = {x0 + s, 0, 0};
+      t = {1, 0, 0};
+    } else if (s <= l1 + l2) {
+      const double beta = (s - l1) / kBend;
+      c = {kFront + kBend * std::sin(beta), 0, -kBend + kBend * std::cos(beta)};
+      t = {std::cos(beta), 0, -std::sin(beta)};
+    } else {
+      c = {kFront - (s - l1 - l2), 0, -2 * kBend};
+      t = {-1, 0, 0};
+    }
+    rings.push_back(ring_at(c, t, across, kLip, staggered_phase(index++, sides)));
+  }
+  const Ring tip = rings.back();
+  const Point3 t1 = ring_tangent(tip);
+  for (int k = 1; k <= kCapRings; ++k) {
+    const double psi = k * (kPi / 2) / (kCapRings + 1);
+    Ring r = tip;
+    r.centre = plus(tip.centre, times(kLip * std::sin(psi), t1));
+    r.radius = kLip * std::cos(psi);
+    r.phase = staggered_phase(index++, sides);
+    rings.push_back(r);
+  }
+  Surface s = capped_sweep(rings, sides, {-1, 0, 0}, plus(tip.centre, times(kLip, t1)));
+  Surface out;
+  append(out, s, odd_motion(0));
+  return out;
+}
+
+// ---- the tree --------------------------------------------------------------------------------
+
+/// Branches closer than kMargin * (sum of radii) count as touching.
+constexpr double kMargin = 1.1;
+
+struct Capsule {
+  Point3 a, b;
+  double radius;
+  int parent;
+};
+
+/// Distance between segments [p0, p1] and [q0, q1] (clamped closest points).
+double segment_distance(const Point3& p0, const Point3& p1, const Point3& q0, const Point3& q1) {
+  const Point3 d1 = minus(p1, p0), d2 = minus(q1, q0), r = minus(p0, q0);
+  const double a = dot(d1, d1), e = dot(d2, d2), f = dot(d2, r);
+  const double c = dot(d1, r), b = dot(d1, d2), denom = a * e - b * b;
+  double s = denom > 1e-300 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0) {
+    t = 0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1) {
+    t = 1;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  return length(minus(plus(p0, times(s, d1)), plus(q0, times(t, d2))));
+}
+
+/// Uniform grid over capsule bounding boxes, for the "touches another branch" test.
+class CapsuleGrid {
+ public:
+  explicit CapsuleGrid(double cell) : cell_(cell) {}
+  void insert(const Capsule& c, int id) {
+    for_cells(c, [&](std::int64_t key) { cells_[key].push_back(id); });
+  }
+  /// Calls `visit(id)` for every capsule sharing a grid cell with c (an id may repeat).
+  template <class Visit>
+  void query(const Capsule& c, Visit&& visit) const {
+    for_cells(c, [&](std::int64_t key) {
+      const auto it = cells_.find(key);
+      if (it == cells_.end()) return;
+      for (int id : it->second) visit(id);
+    });
+  }
+
+ private:
+  template <class F>
+  void for_cells(const Capsule& c, F&& f) const {
+    std::array<std::int64_t, 3> lo{}, hi{};
+    for (int d = 0; d < 3; ++d) {
+      // boxes grown by the margin (1.1 radius): capsules closer than the margin share a cell
+      lo[d] = static_cast<std::int64_t>(
+          std::floor((std::min(c.a[d], c.b[d]) - kMargin * c.radius) / cell_));
+      hi[d] = static_cast<std::int64_t>(
+          std::floor((std::max(c.a[d], c.b[d]) + kMargin * c.radius) / cell_));
+    }
+    for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+          f(((x + (1 << 20)) << 42) ^ ((y + (1 << 20)) << 21) ^ (z + (1 << 20)));
+  }
+  double cell_;
+  std::unordered_map<std::int64_t, std::vector<int>> cells_;
+};
+
+/// The branches of the tree (trunk first, breadth first).
+std::vector<Capsule> tree_capsules(int branches, std::uint64_t seed) {
+  constexpr double kTrunkRadius = 0.1, kTrunkLength = 1.4;
+  constexpr double kLengthRatio = 0.8, kRadiusRatio = 0.68;
+  Random random(seed);
+  std::vector<Capsule> out;
+  out.push_back({{0, 0, 0}, {0.013, -0.007, kTrunkLength}, kTrunkRadius, -1});
+  CapsuleGrid grid(0.08);
+  grid.insert(out.front(), 0);
+  std::vector<int> stamp(1, -1);  // last query that looked at each capsule
+  int query = 0;
+  for (std::size_t next = 0; next < out.size() && static_cast<int>(out.size()) < branches; ++next) {
+    const Capsule parent = out[next];
+    const Point3 axis = minus(parent.b, parent.a);
+    const double parent_length = length(axis);
+    const Point3 t = times(1.0 / parent_length, axis);
+    const Point3 helper = std::abs(t[0]) < 0.9 ? Point3{1, 0, 0} : Point3{0, 1, 0};
+    const Point3 e1 = normalized(cross(t, helper)), e2 = cross(t, e1);
+    for (int child = 0; child < 3 && static_cast<int>(out.size()) < branches; ++child) {
+      for (int attempt = 0; attempt < 12; ++attempt) {
+        const double f = random.uniform(0.35, 0.7);
+        const double tilt = random.uniform(35, 65) * kPi / 180;
+        const double azimuth = 2 * kPi * (child + random.uniform(0.1, 0.9)) / 3;
+        // Bent upwards (tropism), but kept 32-70 degrees off the parent's axis so that the
+        // child leaves through the parent's side wall well before the parent's end.
+        const Point3 dir =
+            normalized(plus(plus(times(std::cos(tilt), t),
+                                 times(std::sin(tilt), plus(times(std::cos(azimuth), e1),
+                                                            times(std::sin(azimuth), e2)))),
+                            Point3{0, 0, 0.4}));
+        const double off_axis = std::acos(std::clamp(dot(dir, t), -1.0, 1.0)) * 180 / kPi;
+        if (off_axis < 32 || off_axis > 70) continue;
+        const Point3 root = plus(parent.a, times(f * parent_length, t));
+        const Capsule candidate{root, plus(root, times(kLengthRatio * parent_length, dir)),
+                                kRadiusRatio * parent.radius, static_cast<int>(next)};
+        bool free = true;
+        const int me = static_cast<int>(out.size());
+        ++query;
+        grid.query(candidate, [&](int other) {
+          if (!free || other == candidate.parent || stamp[static_cast<std::size_t>(other)] == query)
+            return;
+          stamp[static_cast<std::size_t>(other)] = query;
+          const Capsule& o = out[static_cast<std::size_t>(other)];
+          if (segment_distance(candidate.a, candidate.b, o.a, o.b) <
+              kMargin * (candidate.radius + o.radius)) {
+            free = false;
+          }
+        });
+        if (!free) continue;
+        out.push_back(candidate);
+        stamp.push_back(-1);
+        grid.insert(candidate, me);
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+// ---- registry helpers --------------------------------------------------------------------------
+
+ExpectedSurfaceCounts counts(long regions, long cells, long patches, long arcs, int min_w,
+                             int max_w, long immersions) {
+  ExpectedSurfaceCounts e;
+  e.regions = regions;
+  e.cells = cells;
+  e.patches = patches;
+  e.arcs = arcs;
+  e.min_winding = min_w;
+  e.max_winding = max_w;
+  e.immersions = immersions;
+  e.at_least_one = immersions > 0;
+  return e;
+}
+
+}  // namespace
+
+// ---- embedded controls -------------------------------------------------------------------------
+
+Surface sphere(int n) {
+  IMM_ASSERT(n >= 3, "sphere needs n >= 3");
+  Surface out;
+  append(out, unit_sphere(n), odd_motion(0));
+  return out;
+}
+
+Surface torus(int n) {
+  IMM_ASSERT(n >= 6, "torus needs n >= 6");
+  Surface out;
+  append(out,
+         revolve_closed(
+             [](double s) {
+               const double a = 2 * kPi * s;
+               return std::array<double, 2>{1 + 0.4 * std::cos(a), 0.4 * std::sin(a)};
+             },
+             n / 2, n),
+         odd_motion(0));
+  return out;
+}
+
+Surface two_spheres(int n) {
+  IMM_ASSERT(n >= 3, "two_spheres needs n >= 3");
+  Surface out;
+  append(out, unit_sphere(n), odd_motion(0));
+  Surface small = unit_sphere(n);
+  for (Point3& p : small.vertices) p = times(0.85, p);
+  Motion m = odd_motion(1);
+  m.shift = plus(m.shift, Point3{1.15, 0.07, 0.04});
+  append(out, small, m);  // turned about its own centre, then moved there
+  return out;
+}
+
+// ---- the paper's figures -------------------------------------------------------------------
+
+Surface tube_overlap(int sides) {
+  IMM_ASSERT(sides >= 6, "tube_overlap needs sides >= 6");
+  // Prolate trochoid (b = 2): self-crossing at u = +-u*, u* = 2 sin u* (1.8955); rising so that
+  // the upper strand passes 0.3 above the lower one there.
+  const double lift = 0.3 / (2 * 1.895494267033981);
+  const int samples = 6 * sides + 1;
+  std::vector<Ring> body;
+  for (int i = 0; i < samples; ++i) {
+    const double u = -3 + 6.0 * i / (samples - 1);
+    body.push_back(ring_at({u - 2 * std::sin(u), 1 - 2 * std::cos(u), lift * u},
+                           {1 - 2 * std::cos(u), 2 * std::sin(u), lift}, {0, 0, 1}, 0.3, 0.0));
+  }
+  Surface out;
+  append(out, round_capped_tube(body, sides), odd_motion(0));
+  return out;
+}
+
+Surface helix(int loops, int sides) {
+  IMM_ASSERT(loops >= 1 && sides >= 6 && sides % 2 == 0, "helix needs loops >= 1, even sides >= 6");
+  constexpr double kPitch = 0.4, kTube = 0.3;
+  const int per_loop = 5 * sides / 2;
+  const int samples = per_loop * loops + 1;
+  std::vector<Ring> body;
+  body.reserve(static_cast<std::size_t>(samples));
+  for (int i = 0; i < samples; ++i) {
+    const double t = 2 * kPi * i / per_loop;
+    const double c = std::cos(t), s = std::sin(t);
+    body.push_back(ring_at({c, s, kPitch * t / (2 * kPi)}, {-s, c, kPitch / (2 * kPi)}, {-c, -s, 0},
+                           kTube, 0.0));
+  }
+  Surface out;
+  append(out, round_capped_tube(body, sides), odd_motion(0));
+  return out;
+}
+
+Surface double_loop_torus(int n) {
+  IMM_ASSERT(n >= 8, "double_loop_torus needs n >= 8");
+  constexpr double kA = 0.22, kB = 0.15, kTube = 0.3;
+  const int sides = n / 2;
+  std::vector<Ring> rings;
+  for (int i = 0; i < 2 * n; ++i) {
+    const double t = 2 * kPi * (i + 0.25) / n;  // t in [0, 4 pi): two turns
+    const double rho = 1 + kA * std::cos(t / 2), drho = -0.5 * kA * std::sin(t / 2);
+    const Point3 c{rho * std::cos(t), rho * std::sin(t), kB * std::sin(t / 2)};
+    const Point3 d{drho * std::cos(t) - rho * std::sin(t), drho * std::sin(t) + rho * std::cos(t),
+                   0.5 * kB * std::cos(t / 2)};
+    rings.push_back(
+        ring_at(c, d, {0, 0, 1}, kTube, staggered_phase(static_cast<std::size_t>(i), sides)));
+  }
+  Surface out;
+  append(out, closed_sweep(rings, sides), odd_motion(0));
+  return out;
+}
+
+Surface sacht_torus(int n, bool large) {
+  IMM_ASSERT(n >= 12, "sacht_torus needs n >= 12");
+  Surface out;
+  append(out,
+         revolve_closed(
+             [](double s) {
+               const double a = 2 * kPi * s;
+               return std::array<double, 2>{1 + 0.35 * std::cos(a), 0.35 * std::sin(a)};
+             },
+             n / 2, n),
+         odd_motion(0));
+  const int sides = std::max(6, n / 3);
+  const int through = large ? 8 : 4;
+  for (int k = 0; k < through; ++k) {
+    const double angle = 2 * kPi * k / through + 0.1234 + 0.0371 * k;
+    const double rho = 1 + 0.021 * (k % 3 - 1) + 0.0057;
+    const Point3 centre{rho * std::cos(angle), rho * std::sin(angle), 0.0113 * k - 0.02};
+    const Point3 axis =
+        normalized({0.031 * std::sin(1.7 * k + 0.3), 0.027 * std::cos(2.3 * k + 0.1), 1});
+    const double radius = 0.12 + 0.004 * k;
+    append(out,
+           cylinder(minus(centre, times(0.75, axis)), plus(centre, times(0.75, axis)), radius,
+                    sides, 3, {1, 0, 0}),
+           odd_motion(k + 1, centre));
+  }
+  if (large) {
+    for (int k = 0; k < 4; ++k) {
+      const double angle = 2 * kPi * (k + 0.5) / 4 + 0.2 + 0.03 * k;
+      const double rho = 1.33 + 0.003 * k;
+      const Point3 centre{rho * std::cos(angle), rho * std::sin(angle), 0.017 * k - 0.03};
+      const Point3 axis =
+          normalized({0.021 * std::cos(1.3 * k), 0.033 * std::sin(0.7 * k + 0.5), 1});
+      append(out,
+             cylinder(minus(centre, times(0.7, axis)), plus(centre, times(0.7, axis)), 0.1, sides,
+                      3, {1, 0, 0}),
+             odd_motion(through + k + 1, centre));
+    }
+  }
+  return out;
+}
+
+Surface quintuple_torus(int n) {
+  IMM_ASSERT(n >= 8, "quintuple_torus needs n >= 8");
+  Surface out;
+  const Surface ring_torus = revolve_closed(
+      [](double s) {
+        const double a = 2 * kPi * s;
+        return std::array<double, 2>{1 + 0.3 * std::cos(a), 0.3 * std::sin(a)};
+      },
+      n / 2, n);
+  std::array<double, 5> angles{};
+  for (int k = 0; k < 5; ++k) {
+    angles[static_cast<std::size_t>(k)] = 2 * kPi * k / 5 + 0.05 + 0.013 * k;
+    const double a = angles[static_cast<std::size_t>(k)];
+    Motion m = rotation({0.3 * std::sin(2.1 * k + 0.4), 0.3 * std::cos(1.3 * k), 1}, 0.7 * k + 0.11,
+                        {2 * std::cos(a), 2 * std::sin(a), 0.01 * k - 0.02});
+    // a slight tilt of each torus, about a horizontal axis
+    const Motion tilt = rotation({std::cos(1.9 * k), std::sin(1.9 * k), 0}, 0.02 + 0.013 * k);
+    Surface moved;
+    append(moved, ring_torus, tilt);
+    append(out, moved, m);
+  }
+  const int sides = std::max(6, n / 2);
+  const int body = std::max(3, 2 * n / 3);
+  for (int k = 0; k < 5; ++k) {
+    const double a = angles[static_cast<std::size_t>(k)];
+    const Point3 dir =
+        normalized({std::cos(a), std::sin(a), 0.04 * (k % 2 == 0 ? 1 : -1) + 0.007 * k});
+    const Point3 centre{0.006 * k - 0.012, 0.011 - 0.004 * k, 0.005 * k - 0.01};
+    append(out,
+           cylinder(minus(centre, times(3.6, dir)), plus(centre, times(3.6, dir)), 0.16, sides,
+                    body, {0, 0, 1}),
+           odd_motion(k + 1));
+  }
+  const std::array<std::array<double, 2>, 2> tilted{{{0.25, 1.1}, {0.4, 3.0}}};
+  for (int k = 0; k < 2; ++k) {
+    const auto [tilt, azimuth] = tilted[static_cast<std::size_t>(k)];
+    const Point3 dir{std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth),
+                     std::cos(tilt)};
+    const Point3 centre{0.009 - 0.017 * k, 0.008 * k - 0.013, 0.004 + 0.006 * k};
+    append(out,
+           cylinder(minus(centre, times(1.6, dir)), plus(centre, times(1.6, dir)), 0.16, sides,
+                    body, {1, 0, 0}),
+           odd_motion(k + 6));
+  }
+  return out;
+}
+
+Surface tree(int branches, std::uint64_t seed) {
+  IMM_ASSERT(branches >= 1, "tree needs branches >= 1");
+  const std::vector<Capsule> capsules = tree_capsules(branches, seed);
+  Surface out;
+  out.vertices.reserve(capsules.size() * 62);
+  out.triangles.reserve(capsules.size() * 120);
+  out.source_face.reserve(capsules.size() * 120);
+  const Motion identity;
+  for (const Capsule& c : capsules) {
+    const Point3 axis = minus(c.b, c.a);
+    const Point3 reference =
+        std::abs(axis[0]) < 0.9 * length(axis) ? Point3{1, 0, 0} : Point3{0, 1, 0};
+    append(out, cylinder(c.a, c.b, c.radius, 6, 4, reference), identity);
+  }
+  return out;
+}
+
+Surface head(int n) {
+  IMM_ASSERT(n >= 16, "head needs n >= 16");
+  return head_sweep(n, 0.55);
+}
+
+// ---- Fig. 8 ----------------------------------------------------------------------------------
+
+Surface limacon_torus(int n) {
+  IMM_ASSERT(n >= 12, "limacon_torus needs n >= 12");
+  Surface out;
+  append(out,
+         revolve_closed(
+             [](double s) {
+               const double theta = 2 * kPi * s, r = 1 + 2 * std::cos(theta);
+               return std::array<double, 2>{1.2 + r * std::cos(theta), r * std::sin(theta)};
+             },
+             n, n),
+         odd_motion(0));
+  return out;
+}
+
+Surface figure_eight_torus(int n) {
+  IMM_ASSERT(n >= 12, "figure_eight_torus needs n >= 12");
+  Surface out;
+  append(out,
+         revolve_closed(
+             [](double s) {
+               const double t = 2 * kPi * s;
+               return std::array<double, 2>{1.5 + std::cos(t), std::sin(t) * std::cos(t)};
+             },
+             n, n),
+         odd_motion(0));
+  return out;
+}
+
+Surface poke_through(int n) {
+  IMM_ASSERT(n >= 8, "poke_through needs n >= 8");
+  constexpr double kTunnel = 0.3, kTop = 1.4;
+  const int sides = n;
+  std::vector<Ring> rings;
+  std::size_t index = 0;
+  auto add = [&](double rho, double z) {
+    rings.push_back(revolution_ring(rho, z, staggered_phase(index++, sides)));
+  };
+  // The tip cap: a quarter circle from the axis (the start pole) out and down to the wall.
+  for (int k = 1; k <= kCapRings; ++k) {
+    const double beta = (kPi / 2) * (1 - static_cast<double>(k) / (kCapRings + 1));
+    add(kTunnel * std::cos(beta), kTop + kTunnel * std::sin(beta));
+  }
+  // The tunnel wall, downwards, to where it meets the unit sphere at the bottom.
+  const double bottom = -std::sqrt(1 - kTunnel * kTunnel);
+  const int wall = n / 2;
+  for (int k = 0; k < wall; ++k) add(kTunnel, kTop - (kTop - bottom) * k / wall);
+  // The sphere from that circle up over the equator towards the top pole.
+  const double gamma0 = std::asin(kTunnel);
+  for (int k = 0; k < n; ++k) {
+    const double gamma = gamma0 + (kPi - gamma0) * k / n;
+    add(std::sin(gamma), -std::cos(gamma));
+  }
+  Surface out;
+  append(out, capped_sweep(rings, sides, {0, 0, kTop + kTunnel}, {0, 0, 1}), odd_motion(0));
+  return out;
+}
+
+// ---- nearly self-intersecting ------------------------------------------------------------------
+
+Surface comb(int teeth) {
+  IMM_ASSERT(teeth >= 1, "comb needs teeth >= 1");
+  constexpr double kWidth = 1, kGap = 1.0 / 64, kTooth = 6, kBar = 2, kDepth = 1;
+  std::vector<double> xs;  // breakpoints: the teeth's left and right sides
+  for (int i = 0; i < teeth; ++i) {
+    xs.push_back(i * (kWidth + kGap));
+    xs.push_back(i * (kWidth + kGap) + kWidth);
+  }
+  const int b = static_cast<int>(xs.size());
+  // 2D vertices: bottom[k] = (x_k, -tooth), base[k] = (x_k, 0), top[k] = (x_k, bar).
+  std::vector<std::array<double, 2>> points;
+  auto bottom = [&](int k) { return k; };
+  auto base = [&](int k) { return b + k; };
+  auto top = [&](int k) { return 2 * b + k; };
+  for (double x : xs) points.push_back({x, -kTooth});
+  for (double x : xs) points.push_back({x, 0});
+  for (double x : xs) points.push_back({x, kBar});
+  // Counter-clockwise outline.
+  std::vector<int> outline;
+  for (int i = 0; i < teeth; ++i) {
+    const int l = 2 * i, r = 2 * i + 1;
+    if (i > 0) outline.push_back(base(l));
+    outline.push_back(bottom(l));
+    outline.push_back(bottom(r));
+    outline.push_back(base(r));
+  }
+  for (int k = b - 1; k >= 0; --k) outline.push_back(top(k));
+  outline.push_back(base(0));
+  // Cap quads (counter-clockwise seen from +z): bar pieces and teeth.
+  std::vector<std::array<int, 4>> quads;
+  for (int k = 0; k + 1 < b; ++k) quads.push_back({base(k), base(k + 1), top(k + 1), top(k)});
+  for (int i = 0; i < teeth; ++i)
+    quads.push_back({bottom(2 * i), bottom(2 * i + 1), base(2 * i + 1), base(2 * i)});
+
+  Surface s;
+  const auto count = static_cast<std::uint32_t>(points.size());
+  for (double z : {0.0, kDepth})
+    for (const auto& p : points) s.vertices.push_back({p[0], p[1], z});
+  auto lower = [](int v) { return static_cast<std::uint32_t>(v); };
+  auto upper = [&](int v) { return static_cast<std::uint32_t>(v) + count; };
+  for (std::size_t e = 0; e < outline.size(); ++e) {
+    const int p = outline[e], q = outline[(e + 1) % outline.size()];
+    s.triangles.push_back({lower(p), lower(q), upper(q)});
+    s.triangles.push_back({lower(p), upper(q), upper(p)});
+  }
+  for (const auto& q : quads) {
+    s.triangles.push_back({upper(q[0]), upper(q[1]), upper(q[2])});
+    s.triangles.push_back({upper(q[0]), upper(q[2]), upper(q[3])});
+    s.triangles.push_back({lower(q[0]), lower(q[2]), lower(q[1])});
+    s.triangles.push_back({lower(q[0]), lower(q[3]), lower(q[2])});
+  }
+  s.source_face.resize(s.triangles.size());
+  for (std::size_t t = 0; t < s.triangles.size(); ++t)
+    s.source_face[t] = static_cast<std::uint32_t>(t);
+  return s;
+}
+
+Surface mouth(int n) {
+  IMM_ASSERT(n >= 16, "mouth needs n >= 16");
+  // The lip's axis runs at z = -0.6; its capsule (radius 0.15) ends where it is 1.004 from the
+  // head's centre.
+  constexpr double kGap = 0.004;
+  return head_sweep(n, std::sqrt((1.15 + kGap) * (1.15 + kGap) - 0.36));
+}
+
+// ---- seeded random inputs ---------------------------------------------------------------------
+
+Surface random_blobs(int blobs, std::uint64_t seed, int n) {
+  IMM_ASSERT(blobs >= 1 && n >= 4, "random_blobs needs blobs >= 1, n >= 4");
+  const Surface base = unit_sphere(n);
+  return first_generic(seed, [&](Random& random) {
+    const double side = 1.6 * std::cbrt(static_cast<double>(blobs)) - 1.0;
+    Surface out;
+    for (int b = 0; b < blobs; ++b) {
+      const Point3 axes{random.uniform(0.6, 1.2), random.uniform(0.6, 1.2),
+                        random.uniform(0.6, 1.2)};
+      std::array<Point3, 3> waves{};
+      std::array<double, 3> amplitude{}, shift{};
+      for (std::size_t m = 0; m < 3; ++m) {
+        waves[m] = times(random.uniform(2, 3), random.direction());
+        amplitude[m] = random.uniform(0, 0.05);
+        shift[m] = random.uniform(0, 2 * kPi);
+      }
+      Surface blob = base;
+      for (Point3& p : blob.vertices) {
+        double f = 1;
+        for (std::size_t m = 0; m < 3; ++m)
+          f += amplitude[m] * std::sin(dot(waves[m], p) + shift[m]);
+        p = {axes[0] * f * p[0], axes[1] * f * p[1], axes[2] * f * p[2]};
+      }
+      const Point3 centre{random.uniform(0, side), random.uniform(0, side),
+                          random.uniform(0, side)};
+      append(out, blob, rotation(random.direction(), random.uniform(0, 2 * kPi), centre));
+    }
+    return out;
+  });
+}
+
+Surface perturbed_torus(int n, std::uint64_t seed) {
+  IMM_ASSERT(n >= 12, "perturbed_torus needs n >= 12");
+  return first_generic(seed, [&](Random& random) {
+    const double b = random.uniform(1.6, 2.2);
+    std::array<double, 5> a{}, alpha{};  // radial harmonics k = 2..4
+    std::array<double, 4> c{}, gamma{};  // lift harmonics k = 1..3
+    for (std::size_t k = 2; k <= 4; ++k) {
+      a[k] = random.uniform(-0.08, 0.08);
+      alpha[k] = random.uniform(0, 2 * kPi);
+    }
+    for (std::size_t k = 1; k <= 3; ++k) {
+      c[k] = random.uniform(-0.05, 0.05);
+      gamma[k] = random.uniform(0, 2 * kPi);
+    }
+    // Position, first and second derivative of the core at theta.
+    auto core = [&](double th) {
+      double r = 1 + b * std::cos(th), r1 = -b * std::sin(th), r2 = -b * std::cos(th);
+      double z = 0, z1 = 0, z2 = 0;
+      for (std::size_t k = 2; k <= 4; ++k) {
+        const double kk = static_cast<double>(k), arg = kk * th + alpha[k];
+        r += a[k] * std::cos(arg);
+        r1 -= kk * a[k] * std::sin(arg);
+        r2 -= kk * kk * a[k] * std::cos(arg);
+      }
+      for (std::size_t k = 1; k <= 3; ++k) {
+        const double kk = static_cast<double>(k), arg = kk * th + gamma[k];
+        z += c[k] * std::sin(arg);
+        z1 += kk * c[k] * std::cos(arg);
+        z2 -= kk * kk * c[k] * std::sin(arg);
+      }
+      const double co = std::cos(th), si = std::sin(th);
+      return std::array<Point3, 3>{
+          Point3{r * co, r * si, z}, Point3{r1 * co - r * si, r1 * si + r * co, z1},
+          Point3{r2 * co - 2 * r1 * si - r * co, r2 * si + 2 * r1 * co - r * si, z2}};
+    };
+    double curvature = 0;
+    for (int i = 0; i < 4096; ++i) {
+      const auto d = core(2 * kPi * i / 4096);
+      const double speed = length(d[1]);
+      curvature = std::max(curvature, length(cross(d[1], d[2])) / (speed * speed * speed));
+    }
+    const double tube = 0.6 / curvature;
+    struct Bump {
+      double amplitude, phase;
+      int along, around;
+    };
+    std::array<Bump, 3> bumps{};
+    for (Bump& bump : bumps) {
+      bump.amplitude = random.uniform(0, 0.066);
+      bump.phase = random.uniform(0, 2 * kPi);
+      bump.along = 1 + static_cast<int>(random.next() % 4);
+      bump.around = 1 + static_cast<int>(random.next() % 3);
+    }
+    const int rings_count = 4 * n, sides = n / 2;
+    std::vector<Ring> rings;
+    std::vector<double> thetas;
+    for (int i = 0; i < rings_count; ++i) {
+      const double th = 2 * kPi * (i + 0.31) / rings_count;
+      const auto d = core(th);
+      rings.push_back(ring_at(d[0], d[1], {0, 0, 1}, tube,
+                              staggered_phase(static_cast<std::size_t>(i), sides)));
+      thetas.push_back(th);
+    }
+    Surface out;
+    append(out,
+           closed_sweep(rings, sides,
+                        [&](std::size_t ring, double phi) {
+                          double f = 1;
+                          for (const Bump& bump : bumps)
+                            f += bump.amplitude * std::sin(bump.along * thetas[ring] +
+                                                           bump.around * phi + bump.phase);
+                          return f;
+                        }),
+           odd_motion(0));
+    return out;
+  });
+}
+
+// ---- exact genericity check -----------------------------------------------------------------
+
+namespace {
+
+using IK = CGAL::Exact_predicates_inexact_constructions_kernel;
+using IPoint = IK::Point_3;
+
+class GenericityCheck {
+ public:
+  GenericityCheck(const Surface& s, bool keep) : s_(s), keep_(keep) {
+    points_.reserve(s.vertices.size());
+    for (const Point3& p : s.vertices) points_.emplace_back(p[0], p[1], p[2]);
+  }
+
+  SurfaceGenericity run() {
+    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+    std::vector<Box> boxes;
+    boxes.reserve(s_.triangle_count());
+    for (std::uint32_t t = 0; t < s_.triangle_count(); ++t) {
+      double lo[3], hi[3];
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = hi[d] = s_.vertices[s_.triangles[t][0]][d];
+        for (int k = 1; k < 3; ++k) {
+          lo[d] = std::min(lo[d], s_.vertices[s_.triangles[t][k]][d]);
+          hi[d] = std::max(hi[d], s_.vertices[s_.triangles[t][k]][d]);
+        }
+      }
+      boxes.emplace_back(lo, hi, t);
+    }
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+      candidates.emplace_back(std::min(a.info(), b.info()), std::max(a.info(), b.info()));
+    });
+    std::sort(candidates.begin(), candidates.end());
+    for (const auto& [a, b] : candidates) {
+      classify(a, b);
+      if (!result_.generic) break;
+    }
+    return std::move(result_);
+  }
+
+ private:
+  const IPoint& p(std::uint32_t t, int k) const { return points_[s_.triangles[t][k]]; }
+  IK::Triangle_3 triangle(std::uint32_t t) const { return {p(t, 0), p(t, 1), p(t, 2)}; }
+
+  void fail(std::uint32_t a, std::uint32_t b, const std::string& what) {
+    result_.generic = false;
+    result_.problem = "triangles " + std::to_string(a) + " and " + std::to_string(b) + ": " + what;
+  }
+
+  void classify(std::uint32_t a, std::uint32_t b) {
+    const Triangle& ta = s_.triangles[a];
+    const Triangle& tb = s_.triangles[b];
+    std::array<int, 3> match{-1, -1, -1};  // corner of b equal to corner k of a
+    int shared = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (ta[i] == tb[j]) {
+          match[i] = j;
+          ++shared;
+        }
+    if (shared == 3) return fail(a, b, "the same three vertices");
+    if (shared == 2) {
+      int oa = 0;
+      while (match[oa] >= 0) ++oa;
+      int ob = 0;
+      while (tb[ob] == ta[0] || tb[ob] == ta[1] || tb[ob] == ta[2]) ++ob;
+      const IPoint &u = p(a, (oa + 1) % 3), &v = p(a, (oa + 2) % 3);
+      if (CGAL::orientation(u, v, p(a, oa), p(b, ob)) == CGAL::COPLANAR &&
+          CGAL::coplanar_orientation(u, v, p(a, oa), p(b, ob)) == CGAL::POSITIVE) {
+        fail(a, b, "share an edge and fold onto each other");
+      }
+      return;
+    }
+    if (shared == 1) {
+      int ia = 0;
+      while (match[ia] < 0) ++ia;
+      const int ib = match[ia];
+      const IK::Segment_3 far_a(p(a, (ia + 1) % 3), p(a, (ia + 2) % 3));
+      const IK::Segment_3 far_b(p(b, (ib + 1) % 3), p(b, (ib + 2) % 3));
+      if (CGAL::do_intersect(far_a, triangle(b)) || CGAL::do_intersect(far_b, triangle(a)))
+        fail(a, b, "share one vertex and meet beyond it");
+      return;
+    }
+    std::array<CGAL::Orientation, 3> oa{}, ob{};
+    bool zero = false;
+    for (int k = 0; k < 3; ++k) {
+      oa[k] = CGAL::orientation(p(b, 0), p(b, 1), p(b, 2), p(a, k));
+      ob[k] = CGAL::orientation(p(a, 0), p(a, 1), p(a, 2), p(b, k));
+      zero = zero || oa[k] == CGAL::COPLANAR || ob[k] == CGAL::COPLANAR;
+    }
+    auto one_side = [](const std::array<CGAL::Orientation, 3>& o) {
+      return o[0] == o[1] && o[1] == o[2] && o[0] != CGAL::COPLANAR;
+    };
+    if (one_side(oa) || one_side(ob)) return;
+    if (!CGAL::do_intersect(triangle(a), triangle(b))) return;
+    if (zero)
+      return fail(a, b, "a vertex lies exactly in the other triangle's plane where they meet");
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const IPoint &a0 = p(a, i), &a1 = p(a, (i + 1) % 3), &b0 = p(b, j), &b1 = p(b, (j + 1) % 3);
+        if (CGAL::orientation(a0, a1, b0, b1) == CGAL::COPLANAR &&
+            CGAL::do_intersect(IK::Segment_3(a0, a1), IK::Segment_3(b0, b1))) {
+          return fail(a, b, "an edge of one meets an edge of the other");
+        }
+      }
+    ++result_.intersecting_pairs;
+    if (keep_) result_.pairs.emplace_back(a, b);
+  }
+
+  const Surface& s_;
+  bool keep_;
+  std::vector<IPoint> points_;
+  SurfaceGenericity result_;
+};
+
+}  // namespace
+
+SurfaceGenericity check_generic_surface(const Surface& surface, bool keep_pairs) {
+  return GenericityCheck(surface, keep_pairs).run();
+}
+
+// ---- registry
+// -------------------------------------------------------------------------------------
+
+namespace {
+
+using Maker = std::function<Surface(const std::vector<long>&)>;
+using Counter = std::function<ExpectedSurfaceCounts(const std::vector<long>&)>;
+
+struct Entry {
+  SurfaceGeneratorInfo info;
+  Maker make;
+  Counter expected;
+};
+
+constexpr long kMaxSeed = 9223372036854775807L;
+
+int as_int(long v) { return static_cast<int>(v); }
+
+ExpectedSurfaceCounts embedded() { return counts(2, 1, 1, 0, 0, 1, 1); }
+/// One closed intersection loop on a single immersed ball (tube-overlap, helix, head).
+ExpectedSurfaceCounts one_overlap() { return counts(3, 2, 3, 1, 0, 2, 1); }
+
+const std::vector<Entry>& entries() {
+  static const std::vector<Entry> kEntries = [] {
+    std::vector<Entry> e;
+    e.push_back({{"sphere",
+                  "UV sphere (embedded control)",
+                  {{"n", "latitude bands", 12, 3, 2000}},
+                  1,
+                  "1 cell, 1 immersion"},
+                 [](const std::vector<long>& p) { return sphere(as_int(p[0])); },
+                 [](const std::vector<long>&) { return embedded(); }});
+    e.push_back({{"torus",
+                  "torus (embedded control)",
+                  {{"n", "segments around the axis (n/2 around the tube)", 24, 6, 4000}},
+                  1,
+                  "1 cell, 1 immersion"},
+                 [](const std::vector<long>& p) { return torus(as_int(p[0])); },
+                 [](const std::vector<long>&) { return embedded(); }});
+    e.push_back({{"two-spheres",
+                  "two overlapping spheres as one input (windings 1, 1, 2)",
+                  {{"n", "latitude bands per sphere", 12, 3, 2000}},
+                  1,
+                  "3 cells, 1 immersion"},
+                 [](const std::vector<long>& p) { return two_spheres(as_int(p[0])); },
+                 [](const std::vector<long>&) { return counts(4, 3, 4, 1, 0, 2, 1); }});
+    e.push_back({{"tube-overlap",
+                  "a capped tube along a looping path, passing through itself once",
+                  {{"sides", "vertices per ring", 12, 6, 2000}},
+                  1,
+                  "2 cells (windings 1, 2), 1 immersion"},
+                 [](const std::vector<long>& p) { return tube_overlap(as_int(p[0])); },
+                 [](const std::vector<long>&) { return one_overlap(); }});
+    e.push_back({{"helix",
+                  "Fig. 1: capped tube along a helix, consecutive loops overlapping",
+                  {{"loops", "turns (100, 20 = 200k triangles)", 4, 1, 100000},
+                   {"sides", "vertices per ring (even)", 20, 6, 1000}},
+                  1,
+                  "2 cells (windings 1, 2), 1 immersion"},
+                 [](const std::vector<long>& p) { return helix(as_int(p[0]), as_int(p[1])); },
+                 [](const std::vector<long>&) { return one_overlap(); }});
+    e.push_back({{"double-loop-torus",
+                  "Fig. 13: a torus whose core winds twice around the axis",
+                  {{"n", "rings per turn (n/2 sides)", 32, 8, 4000}},
+                  1,
+                  "self-connecting cell; 1 immersion after a helper-box cut"},
+                 [](const std::vector<long>& p) { return double_loop_torus(as_int(p[0])); },
+                 [](const std::vector<long>&) {
+                   ExpectedSurfaceCounts c = counts(3, 2, 2, 1, 0, 2, 1);  // after the cut
+                   c.self_connecting = true;
+                   return c;
+                 }});
+    e.push_back({{"sacht-torus",
+                  "Fig. 24: torus with vertical columns through it (large = 1: more)",
+                  {{"n", "torus segments around the axis", 36, 12, 4000},
+                   {"large", "0 small, 1 large", 0, 0, 1}},
+                  1,
+                  "max winding 2, 1 immersion"},
+                 [](const std::vector<long>& p) { return sacht_torus(as_int(p[0]), p[1] != 0); },
+                 [](const std::vector<long>& p) {
+                   return p[1] != 0 ? counts(34, 33, 53, 20, 0, 2, 1)
+                                    : counts(14, 13, 21, 8, 0, 2, 1);
+                 }});
+    e.push_back({{"quintuple-torus",
+                  "Fig. 22: five overlapping tori and seven colliding cylinders",
+                  {{"n", "torus segments around the axis", 24, 8, 2000}},
+                  -1,
+                  "max winding 7, at least 1 immersion (the components)"},
+                 [](const std::vector<long>& p) { return quintuple_torus(as_int(p[0])); },
+                 [](const std::vector<long>&) {
+                   ExpectedSurfaceCounts c;
+                   c.max_winding = 7;
+                   c.at_least_one = true;
+                   return c;
+                 }});
+    e.push_back({{"tree",
+                  "Fig. 3: procedural tree, each branch buried in its parent (120 triangles each)",
+                  {{"branches", "branches (2500 = 300k triangles)", 40, 1, 200000},
+                   {"seed", "random seed", 1, 0, kMaxSeed}},
+                  1,
+                  "2B - 1 cells, 1 immersion"},
+                 [](const std::vector<long>& p) {
+                   return tree(as_int(p[0]), static_cast<std::uint64_t>(p[1]));
+                 },
+                 [](const std::vector<long>& p) {
+                   const long b = p[0];
+                   return counts(2 * b, 2 * b - 1, 3 * b - 2, b - 1, 0, b > 1 ? 2 : 1, 1);
+                 }});
+    e.push_back({{"head",
+                  "Fig. 2: head-like sphere whose lip curls down and pierces the chin",
+                  {{"n", "vertices per ring", 24, 16, 2000}},
+                  1,
+                  "2 cells (windings 1, 2), 1 immersion"},
+                 [](const std::vector<long>& p) { return head(as_int(p[0])); },
+                 [](const std::vector<long>&) { return one_overlap(); }});
+    e.push_back({{"limacon-torus",
+                  "Fig. 8: the limacon with inner loop revolved (windings 0..2)",
+                  {{"n", "profile samples and ring sides", 48, 12, 2000}},
+                  0,
+                  "not immersible (exit 3)"},
+                 [](const std::vector<long>& p) { return limacon_torus(as_int(p[0])); },
+                 [](const std::vector<long>&) { return counts(3, 2, 2, 1, 0, 2, 0); }});
+    e.push_back({{"figure-eight-torus",
+                  "Fig. 8: a figure-eight revolved (windings +1 and -1)",
+                  {{"n", "profile samples and ring sides", 32, 12, 2000}},
+                  0,
+                  "inversion (exit 3)"},
+                 [](const std::vector<long>& p) { return figure_eight_torus(as_int(p[0])); },
+                 [](const std::vector<long>&) { return counts(3, 2, 2, 1, -1, 1, 0); }});
+    e.push_back({{"poke-through",
+                  "Fig. 8: a sphere dented from below until the dent pokes out on top",
+                  {{"n", "ring sides", 24, 8, 2000}},
+                  0,
+                  "inversion (exit 3)"},
+                 [](const std::vector<long>& p) { return poke_through(as_int(p[0])); },
+                 [](const std::vector<long>&) { return counts(3, 2, 3, 1, -1, 1, 0); }});
+    e.push_back({{"comb",
+                  "comb whose teeth are 1/64 apart (nearly touching, no intersection)",
+                  {{"teeth", "teeth", 12, 1, 100000}},
+                  1,
+                  "1 cell, 1 immersion"},
+                 [](const std::vector<long>& p) { return comb(as_int(p[0])); },
+                 [](const std::vector<long>&) { return embedded(); }});
+    e.push_back({{"mouth",
+                  "the head with its lip 0.004 short of the chin (no intersection)",
+                  {{"n", "vertices per ring", 24, 16, 2000}},
+                  1,
+                  "1 cell, 1 immersion"},
+                 [](const std::vector<long>& p) { return mouth(as_int(p[0])); },
+                 [](const std::vector<long>&) { return embedded(); }});
+    e.push_back({{"random-blobs",
+                  "K random star-shaped ellipsoids, overlapping (seeded)",
+                  {{"k", "blobs", 8, 1, 10000},
+                   {"seed", "random seed", 1, 0, kMaxSeed},
+                   {"n", "latitude bands per blob", 10, 4, 200}},
+                  -1,
+                  "at least 1 immersion"},
+                 [](const std::vector<long>& p) {
+                   return random_blobs(as_int(p[0]), static_cast<std::uint64_t>(p[1]),
+                                       as_int(p[2]));
+                 },
+                 [](const std::vector<long>&) {
+                   ExpectedSurfaceCounts c;
+                   c.at_least_one = true;
+                   return c;
+                 }});
+    e.push_back({{"perturbed-torus",
+                  "randomly bumped torus around a self-crossing core (seeded)",
+                  {{"n", "size (4n rings of n/2 sides)", 16, 12, 2000},
+                   {"seed", "random seed", 1, 0, kMaxSeed}},
+                  -1,
+                  "at least 1 immersion"},
+                 [](const std::vector<long>& p) {
+                   return perturbed_torus(as_int(p[0]), static_cast<std::uint64_t>(p[1]));
+                 },
+                 [](const std::vector<long>&) {
+                   ExpectedSurfaceCounts c;
+                   c.at_least_one = true;
+                   return c;
+                 }});
+    return e;
+  }();
+  return kEntries;
+}
+
+/// Parses `arguments` against the entry's parameters (dim2/generators.cpp rules).
+std::string parse(const Entry& entry, std::string_view name,
+                  const std::vector<std::string>& arguments, std::vector<long>& values) {
+  const std::vector<SurfaceGeneratorParameter>& params = entry.info.parameters;
+  values.clear();
+  for (const SurfaceGeneratorParameter& p : params) values.push_back(p.default_value);
+  std::vector<bool> set(params.size(), false);
+  std::size_t positional = 0;
+  for (const std::string& argument : arguments) {
+    std::string key;
+    std::string text = argument;
+    if (const auto eq = argument.find('='); eq != std::string::npos) {
+      key = argument.substr(0, eq);
+      text = argument.substr(eq + 1);
+    }
+    std::size_t index = params.size();
+    if (key.empty()) {
+      while (positional < params.size() && set[positional]) ++positional;
+      index = positional;
+    } else {
+      for (std::size_t i = 0; i < params.size(); ++i) {
+        if (params[i].name == key) index = i;
+      }
+      if (index == params.size())
+        return "generator '" + std::string(name) + "' has no parameter '" + key + "'";
+    }
+    if (index >= params.size()) {
+      return "generator '" + std::string(name) + "' takes " + std::to_string(params.size()) +
+             " parameter" + (params.size() == 1 ? "" : "s") + ", got '" + argument + "'";
+    }
+    long value = 0;
+    const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (parsed.ec != std::errc() || parsed.ptr != text.data() + text.size()) {
+      return "parameter '" + params[index].name + "' of '" + std::string(name) +
+             "' must be an integer, got '" + text + "'";
+    }
+    if (value < params[index].min_value || value > params[index].max_value) {
+      return "parameter '" + params[index].name + "' of '" + std::string(name) + "' must lie in [" +
+             std::to_string(params[index].min_value) + ", " +
+             std::to_string(params[index].max_value) + "], got " + std::to_string(value);
+    }
+    if (name == "helix" && params[index].name == "sides" && value % 2 != 0)
+      return "parameter 'sides' of 'helix' must be even";
+    values[index] = value;
+    set[index] = true;
+  }
+  return {};
+}
+
+const Entry* find_entry(std::string_view name) {
+  for (const Entry& e : entries()) {
+    if (e.info.name == name) return &e;
+  }
+  return nullptr;
+}
+
+std::string unknown(std::string_view name) {
+  return "unknown generator '" + std::string(name) + "' (see 'immerse generate --list')";
+}
+
+}  // namespace
+
+const std::vector<SurfaceGeneratorInfo>& surface_generator_registry() {
+  static const std::vector<SurfaceGeneratorInfo> kInfos = [] {
+    std::vector<SurfaceGeneratorInfo> infos;
+    for (const Entry& e : entries()) infos.push_back(e.info);
+    return infos;
+  }();
+  return kInfos;
+}
+
+const SurfaceGeneratorInfo* find_surface_generator(std::string_view name) {
+  for (const SurfaceGeneratorInfo& info : surface_generator_registry()) {
+    if (info.name == name) return &info;
+  }
+  return nullptr;
+}
+
+std::vector<SurfaceGeneratorSummary> surface_generators() {
+  std::vector<SurfaceGeneratorSummary> out;
+  for (const SurfaceGeneratorInfo& info : surface_generator_registry()) {
+    SurfaceGeneratorSummary g;
+    g.name = info.name;
+    for (const SurfaceGeneratorParameter& p : info.parameters) {
+      if (!g.params.empty()) g.params += ' ';
+      std::string upper = p.name;
+      for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      g.params += "[" + upper + "=" + std::to_string(p.default_value) + "]";
+    }
+    g.description = info.description + " -- " + info.expected_note;
+    out.push_back(std::move(g));
+  }
+  return out;
+}
+
+SurfaceGenerateResult generate_surface(std::string_view name,
+                                       const std::vector<std::string>& arguments) {
+  SurfaceGenerateResult result;
+  const Entry* entry = find_entry(name);
+  if (entry == nullptr) {
+    result.error = unknown(name);
+    return result;
+  }
+  std::vector<long> values;
+  result.error = parse(*entry, name, arguments, values);
+  if (result.error.empty()) result.surface = entry->make(values);
+  return result;
+}
+
+ExpectedSurfaceCounts expected_surface_counts(std::string_view name,
+                                              const std::vector<std::string>& arguments) {
+  const Entry* entry = find_entry(name);
+  ExpectedSurfaceCounts counts;
+  if (entry == nullptr) {
+    counts.error = unknown(name);
+    return counts;
+  }
+  std::vector<long> values;
+  const std::string error = parse(*entry, name, arguments, values);
+  if (!error.empty()) {
+    counts.error = error;
+    return counts;
+  }
+  return entry->expected(values);
+}
+
+}  // namespace imm::dim3

@@ -1,0 +1,274 @@
+// Procedural 3D inputs (`immerse generate` for surfaces): the paper's 3D shapes, embedded
+// controls, shapes with known answers and seeded random families (issue 3, item 5).
+//
+// CGAL-free header (the genericity check at the end uses CGAL inside generators3.cpp only).
+// Every output is a closed, manifold, consistently and outwardly oriented triangle mesh without
+// degenerate triangles (dim3/surface.h: the normal (v1 - v0) x (v2 - v0) points out), possibly
+// of several components (paper §6.2: a union of closed components is one input). Coordinates
+// are doubles; the generators of intersecting shapes give each component a small rigid motion
+// with "odd" angles and stagger the rings' sample angles with an irrational jitter, so no
+// vertex lies exactly on another sheet, no two edges meet exactly and no two triangles are
+// coplanar where sheets meet: the outputs are GENERIC in the paper's sense (§3). Fixed shapes
+// are checked by tests/dim3/generators3_test.cpp with `check_generic_surface` (exact
+// predicates); seeded random shapes are checked exactly on every call and re-drawn from the
+// same stream until generic.
+//
+// Building blocks. Most shapes are SWEEPS: rings of `sides` vertices around a centreline,
+// joined ring to ring by quads split into two triangles, either closed into a torus or capped at
+// both ends (three rings on a quarter circle, then a pole vertex: a rounded cap); surfaces of
+// revolution are sweeps whose rings are the parallels of a profile curve. A capped or
+// closed sweep with `rings` rings (cap rings included) has exactly 2 * sides * rings triangles.
+// A tube of radius r around a centreline with curvature at most k bounds an immersed solid
+// (a ball when capped, a solid torus when closed) whenever r * k < 1: the map
+// (s, disk) -> centreline(s) + disk is then locally injective. This is how the shapes below
+// are known to be immersible.
+//
+// Expected answers. `regions` counts every region including the unbounded outside one, `cells`
+// the regions with non-zero winding number, `arcs` geometric arcs (intersection curves between
+// triple points, or closed loops), each once: the paper's Table 1 counts each arc once per
+// sheet (twice) and its "cells" column includes the outside region. Where the counts follow
+// from the construction they are stated per generator below and returned by
+// `expected_surface_counts`; the exact cell complex (dim3/complex3.h) and the search verify
+// them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "dim3/surface.h"
+
+namespace imm::dim3 {
+
+// ---- the registry (`immerse generate --list`) ------------------------------------------------
+
+/// One integer parameter of a surface generator.
+struct SurfaceGeneratorParameter {
+  std::string name;
+  std::string description;
+  long default_value = 0;
+  long min_value = 0;
+  long max_value = 0;
+};
+
+struct SurfaceGeneratorInfo {
+  std::string name;         ///< "helix", "tree", ...
+  std::string description;  ///< one line
+  std::vector<SurfaceGeneratorParameter> parameters;
+  /// Known number of (pairwise non-isomorphic, simple) immersions for the default parameters:
+  /// 0 = none (exit 3), -1 = not stated (random inputs).
+  int expected_immersions = -1;
+  /// A short note on the known answer ("1 immersion", "inversion (exit 3)", ...).
+  std::string expected_note;
+};
+
+/// Every surface generator, in the order `--list` prints them.
+const std::vector<SurfaceGeneratorInfo>& surface_generator_registry();
+
+/// @return the surface generator with this name, or nullptr.
+const SurfaceGeneratorInfo* find_surface_generator(std::string_view name);
+
+struct SurfaceGenerateResult {
+  Surface surface;
+  std::string error;  ///< unknown name, bad parameter count or range
+  [[nodiscard]] bool ok() const { return error.empty(); }
+};
+
+/// Runs a surface generator by name. `arguments` are the parameters in order, either plain
+/// integers ("3") or "name=value"; missing ones take their defaults. Never throws for bad
+/// arguments (they go into `error`).
+SurfaceGenerateResult generate_surface(std::string_view name,
+                                       const std::vector<std::string>& arguments);
+
+/// The registry in the shape the command line prints it (`immerse generate --list`): name,
+/// parameter synopsis ("[N=24] [SEED=1]") and the description with the known answer.
+struct SurfaceGeneratorSummary {
+  std::string name;
+  std::string params;
+  std::string description;
+};
+std::vector<SurfaceGeneratorSummary> surface_generators();
+
+/// What the construction of a generated shape implies; -1 where it is not derived by hand.
+struct ExpectedSurfaceCounts {
+  long regions = -1;  ///< all regions, the unbounded outside one included
+  long cells = -1;    ///< regions with non-zero winding number
+  long patches = -1;
+  long arcs = -1;        ///< geometric arcs, each once (closed intersection loops here)
+  int min_winding = 0;   ///< smallest winding number (negative: an inversion)
+  int max_winding = -1;  ///< largest winding number; -1 = not derived
+  /// 0 = none (exit 3); -1 = not derived (at least 1 when `at_least_one`); with a
+  /// self-connecting cell: the count once helper boxes have cut it (paper §6.2).
+  long immersions = -1;
+  bool at_least_one = false;     ///< an immersion is known to exist (e.g. the components' solids)
+  bool self_connecting = false;  ///< has a self-connecting cell (cut by helper boxes, paper §6.2)
+  std::string error;             ///< as in SurfaceGenerateResult
+};
+
+/// The hand-derived answer for a generator and its arguments (same argument rules as
+/// `generate_surface`). Paper: §4 (regions, cells, patches, arcs), §5 (immersions).
+ExpectedSurfaceCounts expected_surface_counts(std::string_view name,
+                                              const std::vector<std::string>& arguments);
+
+// ---- embedded controls -------------------------------------------------------------------------
+
+/// A UV sphere of radius 1: `n` >= 3 latitude bands, 2n vertices per ring, two poles;
+/// 4 n (n - 1) triangles. 2 regions, 1 cell, 1 patch, 0 arcs, 1 immersion.
+Surface sphere(int n);
+
+/// A torus (major radius 1, minor 0.4), `n` >= 6 segments around the axis and n / 2 around
+/// the tube: 2 n (n / 2) triangles. 2 regions, 1 cell, 1 patch, 0 arcs, 1 immersion.
+Surface torus(int n);
+
+/// Two overlapping spheres (radii 1 and 0.85, centres 1.15 apart), each a sphere(n):
+/// 8 n (n - 1) triangles, two components. Regions: outside (0), each sphere minus the other
+/// (1 each), the lens (2): 4 regions, 3 cells, 4 patches (each sphere cut in two), 1 arc,
+/// 1 immersion (the two balls).
+Surface two_spheres(int n);
+
+// ---- the paper's figures -------------------------------------------------------------------
+
+/// A capped tube (radius 0.3, `sides` >= 6 vertices per ring) swept along a prolate trochoid
+/// x = u - 2 sin u, y = 1 - 2 cos u, rising slowly in z, u in [-3, 3]: the path makes one
+/// loop and passes over itself 0.3 higher (less than the tube diameter), so the tube goes
+/// through itself once, like Fig. 1 / Fig. 5 in 3D. Curvature radius >= 0.5 > 0.3: an
+/// immersed ball. 6 s + 1 body rings and 3 + 3 cap rings: 2 s (6 s + 7) triangles.
+/// 3 regions (0, 1, 2), 2 cells, 3 patches (the outer patch and each strand inside the other),
+/// 1 arc (one loop), 1 immersion.
+Surface tube_overlap(int sides);
+
+/// Fig. 1: a capped tube (radius 0.3) around a helix of radius 1 and pitch 0.4 with `loops`
+/// >= 1 turns: consecutive turns overlap (pitch < diameter), turns two apart do not (0.8 >
+/// 0.6). `sides` = s (even, >= 6) vertices per ring, 5 s / 2 rings per turn: 2 s (5 s / 2 *
+/// loops + 7) triangles = 5 s^2 loops + 14 s; the paper's 100 loops (200,036 triangles) is
+/// helix(100, 20) with 200,280. The winding-2 region is one helical band from the first cap to
+/// the last; its boundary is one intersection loop. 3 regions, 2 cells, 3 patches, 1 arc,
+/// max winding 2, 1 immersion (Table 1: 3 cells with the outside, 3 patches, 2 arcs).
+Surface helix(int loops, int sides = 20);
+
+/// Fig. 13: a closed tube (radius 0.3) whose core winds twice around the z axis,
+/// c(t) = ((1 + 0.22 cos(t/2)) cos t, (1 + 0.22 cos(t/2)) sin t, 0.15 sin(t/2)), t in [0, 4 pi]
+/// (a (2,1) torus knot, unknotted): the two strands over each angle are 0.3 to 0.44 apart, so
+/// the tube overlaps itself all the way round. `n` >= 8 rings per turn (2 n rings), n / 2
+/// sides: 4 n (n / 2) triangles. 3 regions: outside, a winding-1 region (one crescent tube
+/// going round twice) and a winding-2 ring whose preimage in the solid torus is connected:
+/// a SELF-CONNECTING cell (paper §5, Fig. 12/13). 2 cells, 2 patches, 1 arc; no simple
+/// immersion until a helper box cuts the ring (paper §6.2, Fig. 17), then 1.
+Surface double_loop_torus(int n);
+
+/// Fig. 24: a torus (major 1, minor 0.35; `n` >= 12 segments around the axis, n / 2 around
+/// the tube) with vertical capped columns (radius 0.12, about z in [-0.75, 0.75]) through its
+/// tube, each a separate component: small = 4 columns, each cutting the torus in two loops
+/// (top and bottom); large = 8 such columns plus 4 thinner columns grazing the outer rim (one
+/// loop each). Columns have s = max(6, n / 3) sides, 3 body rings and round caps (18 s
+/// triangles each): 2 n (n / 2) + 18 s * (4 or 12) triangles.
+/// Small: regions 2 + 3 * 4 = 14, cells 13, patches 1 + 5 * 4 = 21, arcs 8.
+/// Large: regions 2 + 3 * 8 + 2 * 4 = 34, cells 33, patches 1 + 5 * 8 + 3 * 4 = 53, arcs 20.
+/// Max winding 2; 1 immersion (the torus and the columns' solids).
+Surface sacht_torus(int n, bool large);
+
+/// Fig. 22: five tori (major 1, minor 0.3) in a pentagon ring, neighbours overlapping, and
+/// seven colliding capped cylinders (radius 0.16) whose axes all pass within 0.03 of the
+/// centre: five nearly horizontal ones across the whole ring (through tori and their overlaps)
+/// and two tilted vertical ones. The centre has winding number 7 (the paper's maximum).
+/// `n` >= 8: tori with n segments around their axis and n / 2 around the tube, cylinders with
+/// s = max(6, n / 2) sides and b = max(3, 2 n / 3) body rings: 10 n (n / 2) + 14 s (b + 6)
+/// triangles. Regions, cells and patches are not derived by hand; at least 1 immersion (the
+/// components' solids).
+Surface quintuple_torus(int n);
+
+/// Fig. 3: a procedural tree of `branches` >= 1 capped hexagonal cylinders (trunk, then three
+/// children per branch, breadth first; each child 0.8 times as long and 0.68 times as thick as
+/// its parent, leaving 32-70 degrees off its parent's axis, bent upwards). Each child starts
+/// on its parent's axis, so its root is buried in the parent and it pierces the parent's wall
+/// in one loop; a candidate that would touch any other branch (capsule distance test with a margin)
+/// is re-drawn or skipped, so branches meet only their parents. 120 triangles per branch
+/// (6 sides, 4 body rings, 3 + 3 cap rings); the paper's 328k triangles are about tree(2734).
+/// With b branches: regions 2b, cells 2b - 1, patches 3b - 2, arcs b - 1, max winding 2
+/// (1 for b = 1), 1 immersion. Exactly `branches` components unless the tree runs out of room
+/// (never seen: seeds 1-3 reach 200,000 branches, in about 6 s).
+Surface tree(int branches, std::uint64_t seed = 1);
+
+/// Fig. 2: a head-like sphere (radius 1, the back of the head a pole) that narrows at the front
+/// into a lip (radius 0.15), which curls down and back (bend radius 0.3) and pierces the chin:
+/// its rounded tip is buried inside the head. One sweep (an immersed ball), `n` >= 16 sides,
+/// n / 2 head rings, n lip rings and 3 tip rings: 2 n (n / 2 + n + 3) triangles.
+/// 3 regions (0, 1, 2), 2 cells, 3 patches (the rest, the lip tip inside the head, the chin
+/// disk inside the lip), 1 arc, 1 immersion (Table 1 "head": 3, 3, 2 with its conventions).
+Surface head(int n);
+
+// ---- Fig. 8: not the boundary of an immersion -----------------------------------------------
+
+/// The limaçon r = 1 + 2 cos(theta) with its inner loop (turning number 2, Fig. 8 in 2D),
+/// revolved around an axis 1.2 to its left (which it does not meet): an immersed torus whose
+/// winding numbers are all >= 0 (0, 1 and 2 in the revolved inner loop) but which bounds no
+/// immersion. `n` >= 12 profile samples, n ring sides: 2 n^2 triangles. 3 regions, 2 cells,
+/// 2 patches, 1 arc; 0 immersions (exit 3).
+Surface limacon_torus(int n);
+
+/// The figure-eight x = cos t, y = sin t cos t revolved around an axis 1.5 to its left: the
+/// outer lobe has winding +1, the inner lobe -1 (an inversion). `n` >= 12 profile samples, n
+/// ring sides: 2 n^2 triangles. 3 regions, 2 cells, 2 patches, 1 arc; 0 immersions (exit 3).
+Surface figure_eight_torus(int n);
+
+/// A sphere turned partially inside out: a tunnel (radius 0.3) dented into the unit sphere
+/// from below runs up the axis and pokes out through the top to z = 1.4, where it is closed by
+/// a round cap. One surface of revolution (genus 0). Inside the poked-out tip the winding
+/// number is -1 (an inversion). `n` >= 8 sides; 3 tip rings, n / 2 tunnel rings and n sphere
+/// rings: 2 n (3 + n / 2 + n) triangles.
+/// 3 regions (0, 1, -1), 2 cells, 3 patches, 1 arc; 0 immersions (exit 3).
+Surface poke_through(int n);
+
+// ---- nearly self-intersecting, no intersection ---------------------------------------------
+
+/// A comb: a bar (height 2) with `teeth` = t >= 1 teeth (width 1, length 6) separated by gaps
+/// of 1/64, extruded to depth 1 from its outline (dyadic coordinates: exact, axis-aligned,
+/// no motion applied). 12 t vertices, 24 t - 4 triangles (walls and two triangulated caps;
+/// coplanar neighbours only share edges). No intersection: 2 regions, 1 cell, 1 patch, 0 arcs,
+/// 1 immersion.
+Surface comb(int teeth);
+
+/// The head of `head(n)` whose lip stops short of the chin: the lip's capsule (radius 0.15)
+/// stays 0.004 outside the unit sphere, and every triangle lies inside its smooth shape, so
+/// the gap survives meshing. Same triangle count as head(n). No intersection: 2 regions,
+/// 1 cell, 1 patch, 0 arcs, 1 immersion.
+Surface mouth(int n);
+
+// ---- seeded random inputs ---------------------------------------------------------------------
+
+/// `blobs` >= 1 random star-shaped ellipsoids (semi-axes 0.6..1.2, smooth radial noise of at
+/// most 15%), randomly rotated and placed in a cube whose side grows like blobs^(1/3), so
+/// neighbours overlap: a union of embedded components (at least 1 immersion). `n` >= 4:
+/// each blob is a sphere(n) (4 n (n - 1) triangles). Checked generic; redrawn if not.
+Surface random_blobs(int blobs, std::uint64_t seed, int n = 10);
+
+/// A solid torus whose core is a randomly perturbed limaçon-like closed curve (one
+/// self-crossing, small random lift in z) with a randomly bumped tube: the tube's radius is
+/// 0.6 / (maximum core curvature) times at most 1.2, so it is an immersed solid torus (at
+/// least 1 immersion); the tube usually passes through itself at the core's crossing.
+/// `n` >= 12: 4 n rings of n / 2 sides: 8 n (n / 2) triangles. Checked generic.
+Surface perturbed_torus(int n, std::uint64_t seed);
+
+// ---- exact genericity check (CGAL predicates inside) ----------------------------------------
+
+struct SurfaceGenericity {
+  std::size_t intersecting_pairs = 0;  ///< triangle pairs (no shared vertex) that cross
+  bool generic = true;
+  std::string problem;  ///< the first defect found, when not generic
+  /// The crossing triangle pairs (i < j), when asked for.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+};
+
+/// Exact test (CGAL Epick predicates on the doubles, box_intersection_d for candidates) that
+/// the surface meets itself only in generic crossings: triangles without a shared vertex
+/// either miss each other or cross with every vertex strictly off the other's plane and no edge
+/// meeting an edge of the other; triangles sharing one vertex meet only there; triangles
+/// sharing an edge do not fold onto each other; no two triangles have the same three vertices.
+/// Paper: §3 (non-degenerate input).
+/// @param[in] surface   any triangle mesh with valid indices
+/// @param[in] keep_pairs  fill `pairs`
+SurfaceGenericity check_generic_surface(const Surface& surface, bool keep_pairs = false);
+
+}  // namespace imm::dim3
