@@ -452,8 +452,8 @@ class ComplexBuilder {
     inv.winding_number = region_winding_[r];
     for (std::uint32_t t = 0; t < m_.triangles.size() && inv.triangles.size() < 8; ++t) {
       const std::uint32_t p = patch_of_[t];
-      if (region_of_class_[class_of_node_[side_node(p, false)]] == r.value() ||
-          region_of_class_[class_of_node_[side_node(p, true)]] == r.value()) {
+      if (region_of_class_[class_of_node_[side_node(p, false)]] == static_cast<std::uint32_t>(r.value()) ||
+          region_of_class_[class_of_node_[side_node(p, true)]] == static_cast<std::uint32_t>(r.value())) {
         const long src = m_.triangle_source[t];
         if (inv.triangles.empty() || inv.triangles.back() != src) inv.triangles.push_back(src);
       }

@@ -1,0 +1,200 @@
+// 3D meshing of an immersion (paper §7): local regions of the background tets
+// (dim3/virtual_tets.cpp) become per-node atoms, glued through the immersion graph, and the
+// dimension-generic driver (core/unglue.h) duplicates and connects the tets.
+// CGAL-free: the exact work happens in virtual_tets.cpp.
+#include "dim3/mesh3.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include "core/unglue.h"
+#include "dim3/mesh3_detail.h"
+
+namespace imm::dim3 {
+
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+/// Generated grids tried before a non-generic contact is reported (each is shifted).
+constexpr int kMaxAttempts = 5;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+Box3 input_box(const Surface& s) {
+  Box3 b{s.vertices.front(), s.vertices.front()};
+  for (const Point3& p : s.vertices)
+    for (int d = 0; d < 3; ++d) {
+      b.lo[d] = std::min(b.lo[d], p[d]);
+      b.hi[d] = std::max(b.hi[d], p[d]);
+    }
+  return b;
+}
+
+}  // namespace
+
+MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion, const MeshOptions3& options,
+                            std::size_t input_vertices) {
+  MeshResult3 result;
+  const CellComplex<3>& cc = complex.complex;
+  const NodeLayout& layout = immersion.layout;
+  const auto log = [&](const std::string& message) {
+    if (options.progress) options.progress(message);
+  };
+  IMM_ASSERT(options.resolution >= 1, "resolution must be at least 1");
+  input_vertices = std::min(input_vertices, complex.surface.vertex_count());
+
+  // 1-2. Background and local regions; a generated grid is shifted after a non-generic contact.
+  detail::LocalRegions3 local;
+  for (int attempt = 0;; ++attempt) {
+    auto start = std::chrono::steady_clock::now();
+    result.report = ValidationReport();
+    if (options.background_path) {
+      TetReadResult read = read_tet_mesh(*options.background_path);
+      result.report = std::move(read.report);
+      result.background = std::move(read.mesh);
+      if (read.reoriented > 0)
+        log("meshing: " + std::to_string(read.reoriented) + " background tets were negatively oriented and turned");
+    } else {
+      result.background = make_grid_background(input_box(complex.surface), options.resolution, attempt);
+    }
+    result.stats.seconds_background += seconds_since(start);
+    if (!result.report.ok()) return result;
+    result.stats.background_tets = result.background.tets.size();
+    log("meshing: " + std::to_string(result.background.tets.size()) + " background tets" +
+        (attempt > 0 ? " (grid shifted, attempt " + std::to_string(attempt + 1) + ")" : ""));
+
+    start = std::chrono::steady_clock::now();
+    bool non_generic = false;
+    local = detail::compute_local_regions3(complex, result.background, options.record_contents, result.report,
+                                           non_generic);
+    result.stats.seconds_virtual += seconds_since(start);
+    result.stats.attempts = attempt + 1;
+    if (non_generic && !options.background_path && attempt + 1 < kMaxAttempts) continue;
+    break;
+  }
+  result.stats.candidate_pairs = local.candidate_pairs;
+  result.stats.polygons = local.polygons;
+  result.stats.pieces = local.pieces;
+  result.stats.cut_tets = local.cut_tets;
+  result.stats.side_tests = local.side_tests;
+  if (!result.report.ok()) return result;
+  log("meshing: " + std::to_string(local.polygons) + " clipped polygons, " + std::to_string(local.cut_tets) +
+      " cut tets");
+
+  // 3. Atoms, fusions and adjacencies for the driver.
+  const auto start = std::chrono::steady_clock::now();
+  const TetMesh& background = result.background;
+  UnglueInput<3> input;
+  input.elements.reserve(background.tets.size());
+  for (const Tet& t : background.tets) input.elements.push_back({t[0], t[1], t[2], t[3]});
+  const std::size_t local_count = local.region.size();
+  std::vector<std::uint32_t> atom_first(local_count, kNone);
+  for (std::uint32_t lr = 0; lr < local_count; ++lr) {
+    const CellId cell = cc.cell_of(local.region[lr]);
+    if (!cell.is_valid()) continue;
+    atom_first[lr] = static_cast<std::uint32_t>(input.atoms.size());
+    const std::uint32_t t = local.tet[lr];
+    const auto index_in_tet = static_cast<std::int32_t>(lr - local.first[t]);
+    for (int k = 0; k < cc.winding_number(cell); ++k) input.atoms.push_back({t, layout.node(cell, k), index_in_tet});
+  }
+  IdMap<PatchId, std::vector<ImmersionEdge>> edges_across(cc.patch_count());
+  for (const ImmersionEdge& e : immersion.edges) edges_across[e.patch].push_back(e);
+  const auto atom_of = [&](std::uint32_t lr, NodeId node) {
+    IMM_ASSERT(atom_first[lr] != kNone && layout.cell(node) == cc.cell_of(local.region[lr]),
+               "graph node of another cell than the local region's");
+    return atom_first[lr] + static_cast<std::uint32_t>(layout.copy(node));
+  };
+  for (const auto& fusion : local.fusions)
+    for (const ImmersionEdge& e : edges_across[fusion.patch])
+      input.fusions.emplace_back(atom_of(fusion.inner, e.inner), atom_of(fusion.outer, e.outer));
+  input.adjacencies.reserve(local.adjacencies.size());
+  for (const auto& adjacency : local.adjacencies) {
+    const CellId cell = cc.cell_of(local.region[adjacency.first]);
+    if (!cell.is_valid()) continue;
+    const std::array<std::int32_t, 3> face = {adjacency.face[0], adjacency.face[1], adjacency.face[2]};
+    for (int k = 0; k < cc.winding_number(cell); ++k)
+      input.adjacencies.push_back({atom_first[adjacency.first] + static_cast<std::uint32_t>(k),
+                                   atom_first[adjacency.second] + static_cast<std::uint32_t>(k), face});
+  }
+
+  // 4. Duplicate and connect.
+  const UnglueResult<3> unglued = unglue<3>(input);
+  TetMesh& mesh = result.mesh;
+  mesh.vertices.reserve(unglued.vertex_source.size());
+  for (std::int32_t v : unglued.vertex_source) mesh.vertices.push_back(background.vertices[static_cast<std::size_t>(v)]);
+  mesh.tets.reserve(unglued.copies.size());
+  mesh.reference.reserve(unglued.copies.size());
+  result.background_tet.reserve(unglued.copies.size());
+  result.stats.copies_per_cell.assign(cc.cell_count(), 0);
+  for (std::size_t c = 0; c < unglued.copies.size(); ++c) {
+    const auto& copy = unglued.copies[c];
+    mesh.tets.push_back({copy[0], copy[1], copy[2], copy[3]});
+    mesh.reference.push_back(unglued.copy_node[c].value());
+    result.background_tet.push_back(static_cast<int>(unglued.copy_element[c]));
+    ++result.stats.copies_per_cell[layout.cell(unglued.copy_node[c]).index()];
+  }
+  result.stats.output_tets = mesh.tets.size();
+  result.stats.output_vertices = mesh.vertices.size();
+
+  // 5. Embedding: each input vertex goes into the copy holding the owner of its patch, on the
+  // patch's inner side (the owner's copy of the patch is the boundary of the immersed solid).
+  result.embedding.resize(input_vertices);
+  for (std::size_t v = 0; v < input_vertices; ++v) {
+    const auto& location = local.vertices[v];
+    if (location.local_region == kNone) {
+      const Point3& p = complex.surface.vertices[v];
+      Defect d;
+      d.kind = DefectKind::NotCovered;
+      d.stage = "mesh";
+      d.message = "the background mesh does not cover input vertex " + std::to_string(v) + " " + format_point(p);
+      d.vertices = {static_cast<long>(v)};
+      d.points = {{p[0], p[1], p[2]}};
+      result.report.add(std::move(d));
+      continue;
+    }
+    const std::uint32_t atom = atom_of(location.local_region, immersion.owner[location.patch]);
+    result.embedding[v] = {static_cast<int>(unglued.atom_copy[atom]), location.weights};
+  }
+
+  if (options.record_contents) {
+    result.contents.resize(unglued.copies.size());
+    for (std::uint32_t a = 0; a < input.atoms.size(); ++a) {
+      const UnglueAtom& atom = input.atoms[a];
+      const std::uint32_t lr = local.first[atom.element] + static_cast<std::uint32_t>(atom.local_region);
+      result.contents[unglued.atom_copy[a]].atoms.push_back({atom.node, local.region[lr], atom.local_region});
+    }
+    for (const auto& piece : local.embedded) {
+      if (!piece.inner) continue;
+      const NodeId owner = immersion.owner[complex.cut_triangle_patch[piece.cut_triangle]];
+      const std::uint32_t atom = atom_of(piece.local_region, owner);
+      result.contents[unglued.atom_copy[atom]].owned_cut_triangles.push_back(piece.cut_triangle);
+    }
+    for (CopyContent3& content : result.contents) {
+      auto& s = content.owned_cut_triangles;
+      std::sort(s.begin(), s.end());
+      s.erase(std::unique(s.begin(), s.end()), s.end());
+    }
+  }
+  result.stats.seconds_assembly = seconds_since(start);
+  log("meshing: " + std::to_string(mesh.tets.size()) + " output tets, " + std::to_string(mesh.vertices.size()) +
+      " vertices");
+  return result;
+}
+
+std::string format_embedding3(const std::vector<EmbeddedVertex3>& embedding) {
+  std::ostringstream os;
+  os << std::setprecision(std::numeric_limits<double>::max_digits10);
+  os << embedding.size() << '\n';
+  for (const EmbeddedVertex3& e : embedding)
+    os << e.element << ' ' << e.weights[0] << ' ' << e.weights[1] << ' ' << e.weights[2] << ' ' << e.weights[3]
+       << '\n';
+  return os.str();
+}
+
+}  // namespace imm::dim3

@@ -1,0 +1,87 @@
+// 3D meshing of an immersion (paper §7): a background tet mesh, virtual tets for near
+// self-intersections (§7.1), one copy of each cell's tets per graph node, copies fused across
+// graph edges, vertices merged by union-find (Teran et al. 2005, §6) — the same
+// duplicate-and-connect driver as 2D (core/unglue.h).
+// CGAL-free facade; the exact work happens in dim3/virtual_tets.cpp.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/immersion_graph.h"
+#include "dim3/complex3.h"
+#include "dim3/tet_mesh.h"
+
+namespace imm::dim3 {
+
+struct MeshOptions3 {
+  /// Cubes of the generated background grid along the longest side of the input's box.
+  int resolution = 16;
+  /// Use this background mesh (.veg, .mesh, .node/.ele) instead of generating one.
+  std::optional<std::string> background_path;
+  /// Fill MeshResult3::contents (what every output tet holds; for tests and diagnostics).
+  bool record_contents = false;
+  LogCallback progress;
+};
+
+/// Where an input vertex sits in the output: tet (0-based, output order) and barycentric weights
+/// of its background tet that reproduce its position. DESIGN §3 ".emb".
+struct EmbeddedVertex3 {
+  int element = -1;
+  std::array<double, 4> weights{};
+};
+
+struct MeshStats3 {
+  std::size_t background_tets = 0;
+  std::size_t candidate_pairs = 0;  ///< (tet, cut triangle) pairs with overlapping boxes
+  std::size_t polygons = 0;         ///< clipped polygons
+  std::size_t pieces = 0;
+  std::size_t cut_tets = 0;         ///< background tets with two or more local regions
+  std::size_t side_tests = 0;
+  std::size_t output_tets = 0;
+  std::size_t output_vertices = 0;
+  int attempts = 1;                 ///< generated grids tried (a non-generic contact shifts the grid)
+  std::vector<std::size_t> copies_per_cell;  ///< output tets per cell (by CellId)
+  double seconds_background = 0.0;
+  double seconds_virtual = 0.0;   ///< clipping, pieces, local regions
+  double seconds_assembly = 0.0;  ///< atoms, fusion, union-find, outputs
+};
+
+/// What one output tet (an element copy) holds: local regions of its background tet as seen by
+/// graph nodes (several when copies are fused across a graph edge inside the tet), and the cut
+/// triangles whose pieces in the tet it embeds as boundary (it holds the owner node of the
+/// piece's patch on its inner side).
+struct CopyContent3 {
+  struct Atom {
+    NodeId node;
+    RegionId region;
+    int local_region = 0;  ///< index within its background tet
+  };
+  std::vector<Atom> atoms;
+  std::vector<std::uint32_t> owned_cut_triangles;  ///< sorted
+};
+
+struct MeshResult3 {
+  ValidationReport report;  ///< unreadable background, not covering, non-generic contact (exit 2)
+  TetMesh mesh;
+  std::vector<EmbeddedVertex3> embedding;  ///< per input vertex, original input order
+  MeshStats3 stats;
+  TetMesh background;                     ///< the background mesh used
+  std::vector<int> background_tet;         ///< per output tet: the background tet it copies
+  std::vector<CopyContent3> contents;      ///< per output tet, when record_contents is set
+};
+
+/// Meshes one immersion of the complex. `input_vertices` is the number of leading input vertices
+/// to embed (the user's, when helper boxes were appended; default: all).
+/// @pre `immersion` satisfies Rules 1–7 for `complex.complex`; options.resolution >= 1.
+/// Paper: §7, §7.1.
+MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion, const MeshOptions3& options,
+                            std::size_t input_vertices = static_cast<std::size_t>(-1));
+
+/// .emb text: number of input vertices, then `tet w0 w1 w2 w3` per vertex (max_digits10).
+std::string format_embedding3(const std::vector<EmbeddedVertex3>& embedding);
+
+}  // namespace imm::dim3

@@ -1,0 +1,87 @@
+// Internal interface between the two translation units of 3D meshing (not for callers outside
+// dim3/):
+//  - dim3/virtual_tets.cpp cuts every background tet by the cut mesh exactly and returns its
+//                          local regions and how they connect (CGAL Epeck inside);
+//  - dim3/mesh3.cpp        expands local regions into per-node atoms and runs the
+//                          dimension-generic duplicate-and-connect driver (core/unglue.h).
+// CGAL-free on purpose: mesh3.cpp compiles without the exact kernel.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/ids.h"
+#include "dim3/complex3.h"
+#include "dim3/tet_mesh.h"
+
+namespace imm::dim3::detail {
+
+/// The local regions of all background tets and how they connect. A local region is a connected
+/// component of (open tet minus the input surface); each lies in exactly one region of the
+/// complex. Tets the input does not meet have exactly one local region.
+struct LocalRegions3 {
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+  /// Local regions of tet t are first[t] .. first[t+1]-1 (size: tets + 1).
+  std::vector<std::uint32_t> first;
+  std::vector<RegionId> region;       ///< per local region
+  std::vector<std::uint32_t> tet;     ///< per local region
+
+  /// Two local regions of one tet on the two sides of a piece of `patch` inside the tet.
+  struct Fusion {
+    std::uint32_t inner;  ///< on the patch's negative (inner) side
+    std::uint32_t outer;  ///< on its positive side
+    PatchId patch;
+  };
+  std::vector<Fusion> fusions;  ///< one per (tet, patch, pair of local regions)
+
+  /// Two local regions of two tets sharing `face` whose parts of the face meet along a positive
+  /// area free of the input (both lie in the same region).
+  struct Adjacency {
+    std::uint32_t first;
+    std::uint32_t second;
+    std::array<int, 3> face;  ///< background vertex ids
+  };
+  std::vector<Adjacency> adjacencies;
+
+  /// Where each input vertex (input order) sits: the local region on the inner side of its patch
+  /// at the vertex, and exact barycentric coordinates in that tet, rounded once.
+  struct VertexLocation {
+    std::uint32_t local_region = kNone;  ///< kNone: not covered by the background
+    PatchId patch;
+    std::array<double, 4> weights{};
+  };
+  std::vector<VertexLocation> vertices;
+
+  /// A piece of cut triangle `cut_triangle` inside a tet, seen from one side: `local_region` is
+  /// on its inner (negative) side when `inner`, else on its outer side. Filled on request.
+  struct Embedded {
+    std::uint32_t local_region;
+    std::uint32_t cut_triangle;
+    bool inner;
+  };
+  std::vector<Embedded> embedded;
+
+  std::size_t candidate_pairs = 0;  ///< (tet, cut triangle) pairs with overlapping boxes
+  std::size_t polygons = 0;         ///< clipped polygons of positive area
+  std::size_t cut_tets = 0;         ///< tets with two or more local regions
+  std::size_t pieces = 0;           ///< connected components of the input inside tets
+  std::size_t side_tests = 0;       ///< exact "which side of a piece" tests
+  std::size_t point_locations = 0;  ///< exact point locations for flood components
+};
+
+/// Cuts every tet of `background` by the cut mesh of `complex`: exact Sutherland–Hodgman
+/// clipping of the cut triangles, pieces, their sides, local regions, fusions, face adjacencies
+/// and input-vertex locations.
+/// A contact of the input with the background that is not generic (an input point on a tet
+/// face, an input edge meeting a tet edge, a tet vertex on the input) sets `non_generic` and
+/// adds a Touching defect (stage "mesh") naming the tet, the cut triangle and the point; a
+/// background that does not cover the input adds NotCovered defects. Either way the result is
+/// then incomplete and must not be used.
+LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, bool record_embedded,
+                                     ValidationReport& report, bool& non_generic);
+
+}  // namespace imm::dim3::detail

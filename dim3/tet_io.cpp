@@ -1,0 +1,792 @@
+// Readers (Vega .veg, Medit .mesh, TetGen .node/.ele) and writers (.mesh, .vtu, .veg) of
+// tetrahedral meshes (dim3/tet_mesh.h): the background meshes a user may pass to the meshing step
+// and the unglued output.
+//
+// Small hand-written parsers, like dim3/surface_io.cpp: every error names the file and the line,
+// numbers are parsed with std::from_chars (correctly rounded) so that a written mesh reads back
+// bit for bit. Each format is first read into a raw mesh (indices 0-based but unchecked); the
+// common finish checks indices and coordinates and orients every tet with the exact predicate
+// (CGAL Epick's orientation is exact on doubles), so that downstream code can rely on
+// det(v1 - v0, v2 - v0, v3 - v0) > 0 without ever looking at a tolerance.
+//
+// A parse error (Unreadable) stops the reading of that file: later lines of a broken file would
+// only produce follow-up errors. Tets that are defective (bad index, non-finite or zero volume)
+// are left out of `mesh.tets`; the defect names them by their file order.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <string_view>
+
+#include "dim3/tet_mesh.h"
+
+namespace imm::dim3 {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+constexpr const char* kStage = "background";
+constexpr std::size_t kMaxDefectsPerKind = 20;
+
+std::string format_number(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  if (value == 0.0) return "0";  // also -0
+  char buffer[64];
+  // Shortest decimal that reads back as the same double: as exact as max_digits10, shorter.
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, result.ptr);
+}
+
+std::vector<double> coordinates(const Point3& p) { return {p[0], p[1], p[2]}; }
+
+/// Defects with at most kMaxDefectsPerKind listed per kind; the rest go to report.unlisted.
+class Defects {
+ public:
+  void add(DefectKind kind, std::string message, std::vector<long> tets = {},
+           std::vector<long> vertices = {}, std::vector<std::vector<double>> points = {}) {
+    std::size_t& n = count_[kind];
+    if (++n > kMaxDefectsPerKind) {
+      ++report_.unlisted;
+      return;
+    }
+    report_.add(Defect{kind, kStage, std::move(message), std::move(tets), std::move(vertices),
+                       std::move(points)});
+  }
+  [[nodiscard]] bool any() const { return !count_.empty(); }
+  [[nodiscard]] bool any(DefectKind kind) const { return count_.count(kind) > 0; }
+  ValidationReport take() { return std::move(report_); }
+
+ private:
+  ValidationReport report_;
+  std::map<DefectKind, std::size_t> count_;
+};
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+std::optional<double> parse_double(std::string_view s) {
+  const char* begin = s.data();
+  const char* end = begin + s.size();
+  if (begin != end && *begin == '+') {
+    ++begin;
+    if (begin != end && *begin == '-') return std::nullopt;
+  }
+  double value = 0;
+  const auto [ptr, ec] = std::from_chars(begin, end, value);
+  if (ptr != end) return std::nullopt;
+  if (ec == std::errc::result_out_of_range)
+    return std::strtod(std::string(s).c_str(), nullptr);  // +-inf or tiny
+  if (ec != std::errc()) return std::nullopt;
+  return value;
+}
+
+std::optional<long long> parse_integer(std::string_view s) {
+  const char* begin = s.data();
+  const char* end = begin + s.size();
+  if (begin != end && *begin == '+') ++begin;
+  long long value = 0;
+  const auto [ptr, ec] = std::from_chars(begin, end, value);
+  if (ec != std::errc() || ptr != end) return std::nullopt;
+  return value;
+}
+
+std::string quoted(std::string_view token) {
+  constexpr std::size_t kMax = 40;
+  std::string s(token.substr(0, kMax));
+  for (char& c : s) {
+    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+  }
+  return "'" + s + (token.size() > kMax ? "...'" : "'");
+}
+
+std::string upper(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
+/// Whitespace-separated tokens with line numbers and `#` comments; Vega also separates by commas.
+class Tokens {
+ public:
+  Tokens(std::string_view text, bool comma_separates)
+      : text_(text), comma_separates_(comma_separates) {}
+
+  /// The next token, or nullopt at the end; line() is then its line.
+  std::optional<std::string_view> next() {
+    while (pos_ < text_.size()) {
+      const char c = text_[pos_];
+      if (c == '\n') {
+        ++line_;
+        ++pos_;
+      } else if (is_separator(c)) {
+        ++pos_;
+      } else if (c == '#') {
+        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+      } else {
+        break;
+      }
+    }
+    if (pos_ >= text_.size()) return std::nullopt;
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && !is_separator(text_[pos_]) && text_[pos_] != '\n' &&
+           text_[pos_] != '#')
+      ++pos_;
+    token_line_ = line_;
+    return text_.substr(start, pos_ - start);
+  }
+  /// The next token if it is on the line of the previous one.
+  std::optional<std::string_view> next_on_line() {
+    const std::uint64_t line = token_line_;
+    const std::size_t pos = pos_;
+    const std::uint64_t current = line_;
+    auto token = next();
+    if (token && token_line_ == line) return token;
+    pos_ = pos;
+    line_ = current;
+    token_line_ = line;
+    return std::nullopt;
+  }
+  /// Skips the rest of the current line (attributes, boundary markers, a section's name).
+  void skip_line() {
+    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+  }
+  [[nodiscard]] std::uint64_t line() const { return token_line_; }
+
+ private:
+  [[nodiscard]] bool is_separator(char c) const {
+    return is_space(c) || (comma_separates_ && c == ',');
+  }
+  std::string_view text_;
+  bool comma_separates_;
+  std::size_t pos_ = 0;
+  std::uint64_t line_ = 1;
+  std::uint64_t token_line_ = 1;
+};
+
+/// A mesh as written in the file: indices made 0-based but not checked yet.
+struct RawMesh {
+  std::vector<Point3> vertices;
+  std::vector<std::uint64_t> vertex_line;
+  std::vector<std::array<long long, 4>> tets;
+  std::vector<int> reference;
+  std::vector<std::uint64_t> tet_line;
+  std::string vertex_file;  ///< for messages (TetGen: the .node file)
+  std::string tet_file;     ///< (TetGen: the .ele file)
+  int index_base = 1;       ///< how the file numbers vertices, for messages
+};
+
+std::string at(const std::string& file, std::uint64_t line) {
+  return file + ":" + std::to_string(line) + ": ";
+}
+
+/// Reads `count` (from a header token) as a non-negative record count, bounded by the file size
+/// so that a wrong count costs no memory.
+std::optional<long long> parse_count(std::optional<std::string_view> token) {
+  if (!token) return std::nullopt;
+  const auto n = parse_integer(*token);
+  if (!n || *n < 0) return std::nullopt;
+  return n;
+}
+
+/// Reads `x y z` after an index token, on its line (Vega, TetGen) or anywhere (Medit).
+bool read_point(Tokens& tokens, bool same_line, Point3& p) {
+  for (int k = 0; k < 3; ++k) {
+    const auto token = same_line ? tokens.next_on_line() : tokens.next();
+    const auto value = token ? parse_double(*token) : std::nullopt;
+    if (!value) return false;
+    p[k] = *value;
+  }
+  return true;
+}
+
+void truncated(Defects& defects, const std::string& file, const char* what, long long i,
+               long long n, std::uint64_t header_line) {
+  defects.add(DefectKind::Unreadable, file + ": the file ends after " + std::to_string(i) +
+                                          " of the " + std::to_string(n) + " " + what +
+                                          " announced on line " + std::to_string(header_line));
+}
+
+// ---- Vega .veg ---------------------------------------------------------------------------------
+
+void parse_veg(std::string_view text, RawMesh& raw, Defects& defects) {
+  const std::string& file = raw.vertex_file;
+  Tokens tokens(text, /*comma_separates=*/true);
+  bool saw_vertices = false;
+  bool saw_elements = false;
+  std::optional<std::string_view> token = tokens.next();
+  while (token) {
+    if (token->front() != '*') {
+      defects.add(DefectKind::Unreadable,
+                  at(file, tokens.line()) +
+                      "expected a section ('*VERTICES', '*ELEMENTS', ...), found " +
+                      quoted(*token));
+      return;
+    }
+    const std::string keyword = upper(*token);
+    if (keyword == "*VERTICES") {
+      if (saw_vertices) {
+        defects.add(DefectKind::Unreadable,
+                    at(file, tokens.line()) + "a second '*VERTICES' section");
+        return;
+      }
+      saw_vertices = true;
+      tokens.skip_line();
+      const auto n = parse_count(tokens.next());
+      const std::uint64_t header_line = tokens.line();
+      const auto dimension = tokens.next_on_line();
+      if (!n || !dimension || parse_integer(*dimension) != 3) {
+        defects.add(
+            DefectKind::Unreadable,
+            at(file, header_line) + "expected the vertex header 'N 3 0 0' (N vertices in 3D)");
+        return;
+      }
+      tokens.skip_line();
+      raw.vertices.reserve(static_cast<std::size_t>(
+          std::min<long long>(*n, static_cast<long long>(text.size() / 8))));
+      for (long long i = 0; i < *n; ++i) {
+        const auto index_token = tokens.next();
+        if (!index_token) return truncated(defects, file, "vertices", i, *n, header_line);
+        const std::uint64_t line = tokens.line();
+        const auto index = parse_integer(*index_token);
+        if (i == 0 && index && (*index == 0 || *index == 1))
+          raw.index_base = static_cast<int>(*index);
+        Point3 p{};
+        if (!index || *index != i + raw.index_base || !read_point(tokens, true, p)) {
+          defects.add(DefectKind::Unreadable,
+                      at(file, line) + "expected vertex " + std::to_string(i + raw.index_base) +
+                          " as 'index x y z' (vertices numbered consecutively from 1), found " +
+                          quoted(*index_token) + " ...");
+          return;
+        }
+        raw.vertices.push_back(p);
+        raw.vertex_line.push_back(line);
+        tokens.skip_line();
+      }
+      token = tokens.next();
+    } else if (keyword == "*ELEMENTS") {
+      if (saw_elements) {
+        defects.add(DefectKind::Unreadable,
+                    at(file, tokens.line()) + "a second '*ELEMENTS' section");
+        return;
+      }
+      saw_elements = true;
+      tokens.skip_line();
+      const auto type = tokens.next();
+      if (!type || upper(*type) != "TET") {
+        defects.add(DefectKind::Unreadable,
+                    at(file, tokens.line()) + "expected the element type 'TET', found " +
+                        quoted(type.value_or("end of file")) + " (only tetrahedra are supported)");
+        return;
+      }
+      tokens.skip_line();
+      const auto m = parse_count(tokens.next());
+      const std::uint64_t header_line = tokens.line();
+      const auto per_element = tokens.next_on_line();
+      if (!m || !per_element || parse_integer(*per_element) != 4) {
+        defects.add(DefectKind::Unreadable,
+                    at(file, header_line) + "expected the element header 'M 4 0' (M tets)");
+        return;
+      }
+      tokens.skip_line();
+      raw.tets.reserve(static_cast<std::size_t>(
+          std::min<long long>(*m, static_cast<long long>(text.size() / 10))));
+      for (long long e = 0; e < *m; ++e) {
+        const auto index_token = tokens.next();
+        if (!index_token) return truncated(defects, file, "tets", e, *m, header_line);
+        const std::uint64_t line = tokens.line();
+        std::array<long long, 4> tet{};
+        bool ok = parse_integer(*index_token).has_value();
+        for (int k = 0; k < 4 && ok; ++k) {
+          const auto t = tokens.next_on_line();
+          const auto v = t ? parse_integer(*t) : std::nullopt;
+          ok = v.has_value();
+          if (ok) tet[k] = *v;
+        }
+        if (!ok) {
+          defects.add(DefectKind::Unreadable, at(file, line) + "expected tet " + std::to_string(e) +
+                                                  " as 'index v0 v1 v2 v3' (integers)");
+          return;
+        }
+        raw.tets.push_back(tet);
+        raw.tet_line.push_back(line);
+        tokens.skip_line();
+      }
+      token = tokens.next();
+    } else if (keyword == "*INCLUDE") {
+      defects.add(
+          DefectKind::Unreadable,
+          at(file, tokens.line()) + "'*INCLUDE' is not supported: inline the included file");
+      return;
+    } else {
+      // *MATERIAL, *REGION, *SET, *CONSTRAINTS, ...: nothing a background mesh needs.
+      do {
+        tokens.skip_line();
+        token = tokens.next();
+      } while (token && token->front() != '*');
+    }
+  }
+  // The element section refers to the vertices' numbering; Vega counts from 1.
+  for (auto& tet : raw.tets) {
+    for (long long& v : tet) v -= raw.index_base;
+  }
+  raw.reference.assign(raw.tets.size(), 0);
+  if (!saw_vertices || !saw_elements) {
+    defects.add(
+        DefectKind::Empty,
+        file + " has no '" + std::string(saw_vertices ? "*ELEMENTS" : "*VERTICES") + "' section");
+  }
+}
+
+// ---- Medit .mesh -------------------------------------------------------------------------------
+
+bool starts_with_letter(std::string_view token) {
+  return !token.empty() && std::isalpha(static_cast<unsigned char>(token.front()));
+}
+
+void parse_medit(std::string_view text, RawMesh& raw, Defects& defects) {
+  const std::string& file = raw.vertex_file;
+  Tokens tokens(text, /*comma_separates=*/false);
+  std::optional<std::string_view> token = tokens.next();
+  while (token) {
+    const std::uint64_t keyword_line = tokens.line();
+    if (!starts_with_letter(*token)) {
+      defects.add(DefectKind::Unreadable,
+                  at(file, keyword_line) +
+                      "expected a Medit keyword ('Vertices', 'Tetrahedra', ...), found " +
+                      quoted(*token));
+      return;
+    }
+    const std::string_view keyword = *token;
+    if (keyword == "End") break;
+    if (keyword == "MeshVersionFormatted") {
+      tokens.next();
+    } else if (keyword == "Dimension") {
+      const auto dimension = tokens.next();
+      if (!dimension || parse_integer(*dimension) != 3) {
+        defects.add(DefectKind::Unreadable, at(file, tokens.line()) +
+                                                "expected 'Dimension 3', found " +
+                                                quoted(dimension.value_or("end of file")) +
+                                                " (a 2D mesh is not a background tet mesh)");
+        return;
+      }
+    } else if (keyword == "Vertices") {
+      const auto n = parse_count(tokens.next());
+      if (!n) {
+        defects.add(DefectKind::Unreadable,
+                    at(file, tokens.line()) + "expected the vertex count after 'Vertices'");
+        return;
+      }
+      raw.vertices.reserve(static_cast<std::size_t>(
+          std::min<long long>(*n, static_cast<long long>(text.size() / 8))));
+      for (long long i = 0; i < *n; ++i) {
+        const auto first = tokens.next();
+        if (!first) return truncated(defects, file, "vertices", i, *n, keyword_line);
+        const std::uint64_t line = tokens.line();
+        Point3 p{};
+        const auto x = parse_double(*first);
+        std::optional<std::string_view> ref;
+        bool ok = x.has_value();
+        if (ok) {
+          p[0] = *x;
+          for (int k = 1; k < 3 && ok; ++k) {
+            const auto t = tokens.next();
+            const auto v = t ? parse_double(*t) : std::nullopt;
+            ok = v.has_value();
+            if (ok) p[k] = *v;
+          }
+          ref = ok ? tokens.next() : std::nullopt;
+          ok = ok && ref && parse_integer(*ref);
+        }
+        if (!ok) {
+          defects.add(DefectKind::Unreadable, at(file, line) + "expected vertex " +
+                                                  std::to_string(i + 1) + " as 'x y z ref'");
+          return;
+        }
+        raw.vertices.push_back(p);
+        raw.vertex_line.push_back(line);
+      }
+    } else if (keyword == "Tetrahedra") {
+      const auto m = parse_count(tokens.next());
+      if (!m) {
+        defects.add(DefectKind::Unreadable,
+                    at(file, tokens.line()) + "expected the tet count after 'Tetrahedra'");
+        return;
+      }
+      raw.tets.reserve(static_cast<std::size_t>(
+          std::min<long long>(*m, static_cast<long long>(text.size() / 10))));
+      for (long long e = 0; e < *m; ++e) {
+        std::array<long long, 5> values{};
+        std::uint64_t line = 0;
+        for (int k = 0; k < 5; ++k) {
+          const auto t = tokens.next();
+          if (!t) return truncated(defects, file, "tets", e, *m, keyword_line);
+          if (k == 0) line = tokens.line();
+          const auto v = parse_integer(*t);
+          if (!v) {
+            defects.add(DefectKind::Unreadable,
+                        at(file, tokens.line()) + "expected tet " + std::to_string(e + 1) +
+                            " as 'v0 v1 v2 v3 ref' (integers), found " + quoted(*t));
+            return;
+          }
+          values[k] = *v;
+        }
+        raw.tets.push_back({values[0] - 1, values[1] - 1, values[2] - 1, values[3] - 1});
+        raw.reference.push_back(static_cast<int>(values[4]));
+        raw.tet_line.push_back(line);
+      }
+    } else {
+      // Triangles, Edges, Corners, Ridges, Required*, Normals, ...: records of numbers only, so
+      // the section ends at the next keyword whatever its record size.
+      do {
+        token = tokens.next();
+      } while (token && !starts_with_letter(*token));
+      continue;
+    }
+    token = tokens.next();
+  }
+}
+
+// ---- TetGen .node / .ele -----------------------------------------------------------------------
+
+void parse_node(std::string_view text, RawMesh& raw, Defects& defects) {
+  const std::string& file = raw.vertex_file;
+  Tokens tokens(text, /*comma_separates=*/false);
+  const auto n = parse_count(tokens.next());
+  const std::uint64_t header_line = tokens.line();
+  const auto dimension = tokens.next_on_line();
+  if (!n || !dimension || parse_integer(*dimension) != 3) {
+    defects.add(DefectKind::Unreadable,
+                at(file, header_line) + "expected the header 'N 3 attributes boundary_marker'");
+    return;
+  }
+  tokens.skip_line();
+  raw.vertices.reserve(
+      static_cast<std::size_t>(std::min<long long>(*n, static_cast<long long>(text.size() / 8))));
+  for (long long i = 0; i < *n; ++i) {
+    const auto index_token = tokens.next();
+    if (!index_token) return truncated(defects, file, "vertices", i, *n, header_line);
+    const std::uint64_t line = tokens.line();
+    const auto index = parse_integer(*index_token);
+    if (i == 0 && index && (*index == 0 || *index == 1)) raw.index_base = static_cast<int>(*index);
+    Point3 p{};
+    if (!index || *index != i + raw.index_base || !read_point(tokens, true, p)) {
+      defects.add(DefectKind::Unreadable,
+                  at(file, line) + "expected vertex " + std::to_string(i + raw.index_base) +
+                      " as 'index x y z' (vertices numbered consecutively from 0 or 1), found " +
+                      quoted(*index_token) + " ...");
+      return;
+    }
+    raw.vertices.push_back(p);
+    raw.vertex_line.push_back(line);
+    tokens.skip_line();  // attributes, boundary marker
+  }
+}
+
+void parse_ele(std::string_view text, RawMesh& raw, Defects& defects) {
+  const std::string& file = raw.tet_file;
+  Tokens tokens(text, /*comma_separates=*/false);
+  const auto m = parse_count(tokens.next());
+  const std::uint64_t header_line = tokens.line();
+  const auto per_tet_token = tokens.next_on_line();
+  // Nodes per tet: 4, or 10 for a quadratic tet (its corners come first).
+  const long long corners = per_tet_token ? parse_integer(*per_tet_token).value_or(0) : 0;
+  const auto attributes_token = tokens.next_on_line();
+  const auto attributes =
+      attributes_token ? parse_integer(*attributes_token) : std::optional<long long>(0);
+  if (!m || (corners != 4 && corners != 10) || !attributes || *attributes < 0) {
+    defects.add(DefectKind::Unreadable,
+                at(file, header_line) + "expected the header 'M 4 attributes' (or 'M 10 ...')");
+    return;
+  }
+  tokens.skip_line();
+  raw.tets.reserve(
+      static_cast<std::size_t>(std::min<long long>(*m, static_cast<long long>(text.size() / 10))));
+  for (long long e = 0; e < *m; ++e) {
+    const auto index_token = tokens.next();
+    if (!index_token) return truncated(defects, file, "tets", e, *m, header_line);
+    const std::uint64_t line = tokens.line();
+    std::array<long long, 4> tet{};
+    bool ok = parse_integer(*index_token).has_value();
+    for (long long k = 0; k < corners && ok; ++k) {
+      const auto t = tokens.next_on_line();
+      const auto v = t ? parse_integer(*t) : std::nullopt;
+      ok = v.has_value();
+      if (ok && k < 4) tet[k] = *v - raw.index_base;  // numbered like the .node file
+    }
+    if (!ok) {
+      defects.add(DefectKind::Unreadable, at(file, line) + "expected tet " + std::to_string(e) +
+                                              " as 'index v0 v1 v2 v3 [attributes]' (integers)");
+      return;
+    }
+    // The first attribute (TetGen's region number) becomes the reference when it is an integer.
+    int reference = 0;
+    if (*attributes > 0) {
+      if (const auto t = tokens.next_on_line()) {
+        if (const auto value = parse_double(*t); value && std::isfinite(*value) &&
+                                                 *value == std::trunc(*value) &&
+                                                 std::abs(*value) < 2e9)
+          reference = static_cast<int>(*value);
+      }
+    }
+    raw.tets.push_back(tet);
+    raw.reference.push_back(reference);
+    raw.tet_line.push_back(line);
+    tokens.skip_line();
+  }
+}
+
+// ---- common ------------------------------------------------------------------------------------
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+std::optional<std::string> read_file(const std::string& path, Defects& defects) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    defects.add(DefectKind::Unreadable, "cannot read '" + path + "': it is a directory");
+    return std::nullopt;
+  }
+  std::ifstream file(path, std::ios::binary);
+  if (!file) {
+    defects.add(DefectKind::Unreadable, "cannot open '" + path + "': " + std::strerror(errno));
+    return std::nullopt;
+  }
+  std::string data;
+  file.seekg(0, std::ios::end);
+  const std::streamoff size = file.tellg();
+  file.seekg(0, std::ios::beg);
+  if (size > 0) {
+    data.resize(static_cast<std::size_t>(size));
+    file.read(data.data(), size);
+  }
+  if (!file) {
+    defects.add(DefectKind::Unreadable, "cannot read '" + path + "'");
+    return std::nullopt;
+  }
+  return data;
+}
+
+bool is_finite(const Point3& p) {
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+/// Index range, non-finite coordinates, exact orientation: the raw mesh becomes a TetMesh whose
+/// tets are all positively oriented.
+void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
+  TetMesh& mesh = result.mesh;
+  mesh.vertices = std::move(raw.vertices);
+  const auto n = static_cast<long long>(mesh.vertices.size());
+  const std::string base_note =
+      raw.index_base == 1 ? " (0-based ids; the file numbers vertices from 1)" : "";
+  for (long long v = 0; v < n; ++v) {
+    const Point3& p = mesh.vertices[v];
+    if (is_finite(p)) continue;
+    defects.add(DefectKind::NonFinite,
+                at(raw.vertex_file, raw.vertex_line[v]) + "vertex " + std::to_string(v) +
+                    " has a non-finite coordinate " + format_point(p) + base_note,
+                {}, {static_cast<long>(v)}, {coordinates(p)});
+  }
+  mesh.tets.reserve(raw.tets.size());
+  mesh.reference.reserve(raw.tets.size());
+  for (std::size_t t = 0; t < raw.tets.size(); ++t) {
+    const auto& tet = raw.tets[t];
+    const std::string where = at(raw.tet_file, raw.tet_line[t]) + "tet " + std::to_string(t);
+    bool in_range = true;
+    for (long long v : tet) {
+      if (v >= 0 && v < n) continue;
+      defects.add(DefectKind::OutOfRange,
+                  where + " refers to vertex " + std::to_string(v + raw.index_base) +
+                      " (as numbered in the file), but the file has " + std::to_string(n) +
+                      " vertices, numbered " + std::to_string(raw.index_base) + ".." +
+                      std::to_string(n - 1 + raw.index_base),
+                  {static_cast<long>(t)}, {}, {});
+      in_range = false;
+    }
+    if (!in_range) continue;
+    const Point3* p[4];
+    bool finite = true;
+    for (int k = 0; k < 4; ++k) {
+      p[k] = &mesh.vertices[tet[k]];
+      finite = finite && is_finite(*p[k]);
+    }
+    if (!finite) continue;  // the vertex is reported above
+    auto corners = [&] {
+      std::string s;
+      for (int k = 0; k < 4; ++k)
+        s += (k ? ", " : "") + std::to_string(tet[k]) + " " + format_point(*p[k]);
+      return s;
+    };
+    std::vector<long> vertex_ids(tet.begin(), tet.end());
+    std::vector<std::vector<double>> points;
+    for (int k = 0; k < 4; ++k) points.push_back(coordinates(*p[k]));
+    auto point = [&](int k) { return Kernel::Point_3((*p[k])[0], (*p[k])[1], (*p[k])[2]); };
+    const CGAL::Orientation orientation = CGAL::orientation(point(0), point(1), point(2), point(3));
+    if (orientation == CGAL::COPLANAR) {
+      const bool repeated = std::set<long long>(tet.begin(), tet.end()).size() < 4;
+      defects.add(DefectKind::DegenerateFacet,
+                  where + " has zero volume (" +
+                      (repeated ? "a repeated vertex" : "four coplanar corners") + "): vertices " +
+                      corners() + base_note,
+                  {static_cast<long>(t)}, std::move(vertex_ids), std::move(points));
+      continue;
+    }
+    Tet out{static_cast<int>(tet[0]), static_cast<int>(tet[1]), static_cast<int>(tet[2]),
+            static_cast<int>(tet[3])};
+    if (orientation == CGAL::NEGATIVE) {
+      std::swap(out[2], out[3]);
+      ++result.reoriented;
+    }
+    mesh.tets.push_back(out);
+    mesh.reference.push_back(t < raw.reference.size() ? raw.reference[t] : 0);
+  }
+  if (!defects.any() && (mesh.vertices.empty() || raw.tets.empty())) {
+    defects.add(DefectKind::Empty, raw.tet_file + " contains no tet (" + std::to_string(n) +
+                                       " vertices, " + std::to_string(raw.tets.size()) + " tets)");
+  }
+}
+
+}  // namespace
+
+bool is_tet_mesh_extension(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".veg" || ext == ".mesh" || ext == ".node" || ext == ".ele";
+}
+
+TetReadResult read_tet_mesh(const std::string& path) {
+  TetReadResult result;
+  Defects defects;
+  const std::string ext = lower_extension(path);
+  RawMesh raw;
+  raw.vertex_file = raw.tet_file = path;
+  if (!is_tet_mesh_extension(path)) {
+    defects.add(DefectKind::Unreadable, "cannot read '" + path + "': unknown tet mesh extension '" +
+                                            ext + "' (expected .veg, .mesh, .node or .ele)");
+  } else if (ext == ".node" || ext == ".ele") {
+    // TetGen: the vertices and the tets are two files with the same stem.
+    const std::filesystem::path stem = std::filesystem::path(path).replace_extension();
+    raw.vertex_file = stem.string() +
+                      (ext == ".node" ? std::filesystem::path(path).extension().string() : ".node");
+    raw.tet_file =
+        stem.string() + (ext == ".ele" ? std::filesystem::path(path).extension().string() : ".ele");
+    const auto node = read_file(raw.vertex_file, defects);
+    const auto ele = read_file(raw.tet_file, defects);
+    if (node && ele) {
+      parse_node(*node, raw, defects);
+      if (!defects.any()) parse_ele(*ele, raw, defects);
+    }
+  } else if (const auto text = read_file(path, defects)) {
+    if (ext == ".veg") {
+      raw.index_base = 1;
+      parse_veg(*text, raw, defects);
+    } else {
+      parse_medit(*text, raw, defects);
+    }
+  }
+  if (!defects.any()) finish(raw, result, defects);
+  result.report = defects.take();
+  return result;
+}
+
+std::string format_medit_3d(const TetMesh& mesh) {
+  std::string out = "MeshVersionFormatted 2\nDimension 3\nVertices\n" +
+                    std::to_string(mesh.vertices.size()) + "\n";
+  out.reserve(mesh.vertices.size() * 64 + mesh.tets.size() * 40);
+  for (const Point3& p : mesh.vertices) {
+    out += format_number(p[0]) + ' ' + format_number(p[1]) + ' ' + format_number(p[2]) + " 0\n";
+  }
+  out += "Tetrahedra\n" + std::to_string(mesh.tets.size()) + "\n";
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    const Tet& tet = mesh.tets[t];
+    for (int v : tet) out += std::to_string(v + 1ll) + ' ';
+    out += std::to_string(t < mesh.reference.size() ? mesh.reference[t] : 0) + '\n';
+  }
+  out += "End\n";
+  return out;
+}
+
+std::string format_vtu(const TetMesh& mesh) {
+  constexpr int kVtkTetra = 10;
+  std::string out =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "  <UnstructuredGrid>\n"
+      "    <Piece NumberOfPoints=\"" +
+      std::to_string(mesh.vertices.size()) + "\" NumberOfCells=\"" +
+      std::to_string(mesh.tets.size()) + "\">\n";
+  out.reserve(mesh.vertices.size() * 64 + mesh.tets.size() * 48);
+  out +=
+      "      <Points>\n"
+      "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" "
+      "format=\"ascii\">\n";
+  for (const Point3& p : mesh.vertices) {
+    out += "          " + format_number(p[0]) + ' ' + format_number(p[1]) + ' ' +
+           format_number(p[2]) + '\n';
+  }
+  out +=
+      "        </DataArray>\n"
+      "      </Points>\n"
+      "      <Cells>\n"
+      "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (const Tet& tet : mesh.tets) {
+    out += "          " + std::to_string(tet[0]) + ' ' + std::to_string(tet[1]) + ' ' +
+           std::to_string(tet[2]) + ' ' + std::to_string(tet[3]) + '\n';
+  }
+  out +=
+      "        </DataArray>\n"
+      "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) out += ' ' + std::to_string(4 * (t + 1));
+  out +=
+      "\n        </DataArray>\n"
+      "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) out += ' ' + std::to_string(kVtkTetra);
+  out +=
+      "\n        </DataArray>\n"
+      "      </Cells>\n"
+      "      <CellData Scalars=\"reference\">\n"
+      "        <DataArray type=\"Int32\" Name=\"reference\" format=\"ascii\">\n";
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    out += ' ' + std::to_string(t < mesh.reference.size() ? mesh.reference[t] : 0);
+  out +=
+      "\n        </DataArray>\n"
+      "      </CellData>\n"
+      "    </Piece>\n"
+      "  </UnstructuredGrid>\n"
+      "</VTKFile>\n";
+  return out;
+}
+
+std::string format_veg(const TetMesh& mesh) {
+  std::string out = "# Vega mesh file.\n# " + std::to_string(mesh.vertices.size()) + " vertices, " +
+                    std::to_string(mesh.tets.size()) + " elements\n\n*VERTICES\n" +
+                    std::to_string(mesh.vertices.size()) + " 3 0 0\n";
+  out.reserve(mesh.vertices.size() * 64 + mesh.tets.size() * 40);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Point3& p = mesh.vertices[v];
+    out += std::to_string(v + 1) + ' ' + format_number(p[0]) + ' ' + format_number(p[1]) + ' ' +
+           format_number(p[2]) + '\n';
+  }
+  out += "\n*ELEMENTS\nTET\n" + std::to_string(mesh.tets.size()) + " 4 0\n";
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    const Tet& tet = mesh.tets[t];
+    out += std::to_string(t + 1);
+    for (int v : tet) out += ' ' + std::to_string(v + 1ll);
+    out += '\n';
+  }
+  return out;
+}
+
+}  // namespace imm::dim3

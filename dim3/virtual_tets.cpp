@@ -1,0 +1,735 @@
+// Virtual tets (paper §7.1 with d = 3): the exact local regions of every background tet.
+//
+// For each background tet T:
+//  1. clipping: every cut triangle whose box overlaps T's is clipped to the closed tet by exact
+//     Sutherland–Hodgman against the four face planes (Epeck). Every polygon vertex is known
+//     symbolically — a triangle corner, a triangle edge x a tet face, or a tet edge x the
+//     triangle — and every polygon edge by its origin: a part of a triangle edge, or a trace on
+//     a tet face. The input must meet the background generically: a polygon vertex lying on a
+//     face plane it was not constructed on (an input point on a tet face, an input edge meeting
+//     a tet edge, a tet vertex on the input) is reported and the caller retries with a shifted
+//     background (or refuses a background read from a file).
+//  2. pieces: polygons joined across the parts of cut edges inside T (across arcs the four
+//     sheets meet at one geometric edge: the stitch map makes them one piece).
+//  3. sides: the two sides of every polygon, joined across uncut edges (same side) and, around
+//     an arc, through its four wedges (the same wedge rule as the cell complex). The classes are
+//     the local regions next to a piece.
+//  4. several pieces: for every ordered pair (P, Q), which side class of P holds Q. Each test
+//     shoots an exact segment from a point inside a polygon of Q to a point inside a polygon of
+//     P and reads the side of the first polygon of P it crosses; segments through an edge, a
+//     vertex or two hits at once are replaced by another. Two (piece, class) pairs bound the
+//     same local region iff they agree on every piece's class (the pieces are disjoint
+//     closed-in-T surfaces of a ball, so the complement's components are the consistent class
+//     tuples, as in the paper's region tree).
+//
+// DEVIATION from the paper: §7.1.1 decides inside/outside with angle-weighted pseudo-normals at
+// the closest site of each piece. Angle weights are not rational, so that test cannot be exact;
+// the first crossing along a segment is, with rational arithmetic only, and it needs no closest-
+// point computation. The region tree is the same.
+//
+// Across a shared face, a cut triangle crossing the face leaves a trace in both tets: the local
+// regions on its outer sides are adjacent, and so are those on its inner sides (§7.1.2: "their
+// embedded pieces share points on the boundary"). A face without traces lies in one local
+// region on each side (classified by its centroid). Regions of tets without pieces follow by
+// union-find over the input-free adjacencies, seeded by the sides of pieces; a component without
+// any piece is located by one exact segment shooting against the whole cut mesh.
+#include <CGAL/box_intersection_d.h>
+
+#include <algorithm>
+#include <bit>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/union_find.h"
+#include "dim3/cut_mesh.h"
+#include "dim3/mesh3_detail.h"
+
+namespace imm::dim3::detail {
+
+namespace {
+
+using Point = EK::Point_3;
+using FT = EK::FT;
+constexpr std::uint32_t kNone = LocalRegions3::kNone;
+
+/// Face f of a tet is opposite vertex f; with these vertex orders the tet's own vertex f lies on
+/// the positive side (CGAL::orientation(a, b, c, v_f) == POSITIVE for a positive tet).
+constexpr int kFace[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+}
+
+/// A vertex of a clipped polygon.
+struct ClipVertex {
+  Point point;
+  std::uint8_t planes = 0;  ///< bit f: constructed on face plane f
+  std::int32_t corner = -1; ///< the cut-mesh (sheet) vertex when a corner of the triangle
+};
+
+/// A clipped polygon: vertex i and the origin of the edge from vertex i to vertex i + 1
+/// (0..2: part of triangle edge k, which joins corners k and k+1; 3 + f: trace on face f).
+struct Polygon {
+  std::uint32_t triangle = 0;  ///< cut triangle
+  std::vector<ClipVertex> vertices;
+  std::vector<std::uint8_t> edge_origin;
+};
+
+/// The exact geometry of one tet.
+struct TetGeometry {
+  std::array<Point, 4> v;
+  std::array<std::optional<EK::Plane_3>, 4> planes;  ///< built on first use
+  const EK::Plane_3& plane(int f) {
+    if (!planes[f]) planes[f].emplace(v[kFace[f][0]], v[kFace[f][1]], v[kFace[f][2]]);
+    return *planes[f];
+  }
+  /// Side of p w.r.t. face plane f: POSITIVE inside, ZERO on the plane.
+  [[nodiscard]] CGAL::Orientation side(int f, const Point& p) const {
+    return CGAL::orientation(v[kFace[f][0]], v[kFace[f][1]], v[kFace[f][2]], p);
+  }
+};
+
+/// A piece's side classes and, per polygon, the class of each side.
+struct PieceSides {
+  std::vector<std::uint32_t> polygons;
+  std::uint32_t class_count = 0;
+};
+
+class VirtualTets {
+ public:
+  VirtualTets(const Complex3& complex, const TetMesh& background, bool record, ValidationReport& report,
+              bool& non_generic)
+      : c_(complex),
+        m_(*complex.exact),
+        bg_(background),
+        record_(record),
+        report_(report),
+        non_generic_(non_generic) {}
+
+  LocalRegions3 run() {
+    non_generic_ = false;
+    points_.reserve(bg_.vertices.size());
+    for (const Point3& p : bg_.vertices) points_.emplace_back(p[0], p[1], p[2]);
+    for (std::uint32_t i = 0; i < m_.pieces.size(); ++i)
+      arc_edge_.emplace(edge_key(m_.pieces[i].points[0], m_.pieces[i].points[1]), i);
+    find_candidates();
+    out_.vertices.resize(c_.surface.vertex_count());
+    out_.first.reserve(bg_.tets.size() + 1);
+    triangle_has_polygon_.assign(m_.triangles.size(), 0);
+    face_region_.assign(4 * bg_.tets.size(), kNone);
+    std::size_t next = 0;
+    for (std::uint32_t t = 0; t < bg_.tets.size(); ++t) {
+      const std::size_t begin = next;
+      while (next < candidates_.size() && candidates_[next].first == t) ++next;
+      out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
+      process_tet(t, begin, next);
+      if (non_generic_) return std::move(out_);
+    }
+    out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
+    connect_faces();
+    if (!report_.ok()) return std::move(out_);
+    resolve_regions();
+    check_coverage();
+    return std::move(out_);
+  }
+
+ private:
+  // ---- set-up --------------------------------------------------------------------------------
+
+  [[nodiscard]] const Point& corner(std::uint32_t cut_triangle, int k) const {
+    return m_.points[m_.vertex_point[m_.triangles[cut_triangle][k]]];
+  }
+
+  /// (tet, cut triangle) pairs whose boxes overlap, sorted. Triangle boxes come from the interval
+  /// approximations of the exact points (they contain the exact points): a conservative filter.
+  void find_candidates() {
+    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+    std::vector<Box> tets, triangles;
+    tets.reserve(bg_.tets.size());
+    for (std::uint32_t t = 0; t < bg_.tets.size(); ++t) {
+      CGAL::Bbox_3 b;
+      for (int k = 0; k < 4; ++k) b += points_[static_cast<std::size_t>(bg_.tets[t][k])].bbox();
+      tets.emplace_back(b, t);
+    }
+    triangles.reserve(m_.triangles.size());
+    for (std::uint32_t x = 0; x < m_.triangles.size(); ++x)
+      triangles.emplace_back(corner(x, 0).bbox() + corner(x, 1).bbox() + corner(x, 2).bbox(), x);
+    CGAL::box_intersection_d(tets.begin(), tets.end(), triangles.begin(), triangles.end(),
+                             [&](const Box& a, const Box& b) { candidates_.emplace_back(a.info(), b.info()); });
+    std::sort(candidates_.begin(), candidates_.end());
+    out_.candidate_pairs = candidates_.size();
+  }
+
+  // ---- clipping ------------------------------------------------------------------------------
+
+  /// Exact Sutherland–Hodgman clipping of cut triangle x to the closed tet. @return false when
+  /// the contact is not generic (then a defect was reported).
+  bool clip(std::uint32_t tet, TetGeometry& g, std::uint32_t x, Polygon& poly) {
+    poly.triangle = x;
+    poly.vertices.clear();
+    poly.edge_origin.clear();
+    for (int k = 0; k < 3; ++k) {
+      poly.vertices.push_back({corner(x, k), 0, static_cast<std::int32_t>(m_.triangles[x][k])});
+      poly.edge_origin.push_back(static_cast<std::uint8_t>(k));
+    }
+    std::vector<ClipVertex> next_vertices;
+    std::vector<std::uint8_t> next_origin;
+    std::vector<CGAL::Orientation> side;
+    for (int f = 0; f < 4 && !poly.vertices.empty(); ++f) {
+      const std::size_t n = poly.vertices.size();
+      side.resize(n);
+      bool any_out = false;
+      for (std::size_t i = 0; i < n; ++i) {
+        side[i] = (poly.vertices[i].planes >> f) & 1u ? CGAL::ZERO : g.side(f, poly.vertices[i].point);
+        any_out = any_out || side[i] == CGAL::NEGATIVE;
+      }
+      if (!any_out) continue;
+      next_vertices.clear();
+      next_origin.clear();
+      const EK::Plane_3& plane = g.plane(f);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j = (i + 1) % n;
+        const ClipVertex& p = poly.vertices[i];
+        const ClipVertex& q = poly.vertices[j];
+        if (side[i] != CGAL::NEGATIVE) {
+          next_vertices.push_back(p);
+          next_origin.push_back(side[i] == CGAL::ZERO && side[j] == CGAL::NEGATIVE ? static_cast<std::uint8_t>(3 + f)
+                                                                                   : poly.edge_origin[i]);
+        }
+        if (side[i] != CGAL::ZERO && side[j] != CGAL::ZERO && side[i] != side[j]) {
+          const auto hit = CGAL::intersection(EK::Segment_3(p.point, q.point), plane);
+          IMM_ASSERT(hit && boost::get<Point>(&*hit), "a clipped edge crossing a plane has no crossing point");
+          ClipVertex v{*boost::get<Point>(&*hit),
+                       static_cast<std::uint8_t>((p.planes & q.planes) | (1u << f)), -1};
+          next_vertices.push_back(std::move(v));
+          next_origin.push_back(side[i] == CGAL::POSITIVE ? static_cast<std::uint8_t>(3 + f) : poly.edge_origin[i]);
+        }
+      }
+      poly.vertices.swap(next_vertices);
+      poly.edge_origin.swap(next_origin);
+    }
+    if (poly.vertices.empty()) return true;
+    // Generic contact: every vertex lies strictly inside every face plane it was not built on,
+    // and the polygon is not flattened to a point or a segment.
+    for (const ClipVertex& v : poly.vertices) {
+      for (int f = 0; f < 4; ++f) {
+        if ((v.planes >> f) & 1u) continue;
+        if (g.side(f, v.point) == CGAL::ZERO) {
+          std::string what = v.corner >= 0 ? "a vertex of the input lies on face " + std::to_string(f)
+                             : std::popcount(v.planes) == 1 ? "an input edge meets an edge of the tet"
+                                                            : "a vertex of the tet lies on the input";
+          return non_generic(tet, x, v.point, what);
+        }
+      }
+    }
+    if (poly.vertices.size() < 3) return non_generic(tet, x, poly.vertices.front().point, "the input touches the tet");
+    return true;
+  }
+
+  bool non_generic(std::uint32_t tet, std::uint32_t x, const Point& where, const std::string& what) {
+    non_generic_ = true;
+    const Point3 p{CGAL::to_double(where.x()), CGAL::to_double(where.y()), CGAL::to_double(where.z())};
+    Defect d;
+    d.kind = DefectKind::Touching;
+    d.stage = "mesh";
+    d.message = "background tet " + std::to_string(tet) + " meets the input non-generically at " +
+                format_point(p) + ": " + what + " (input triangle " + std::to_string(m_.triangle_source[x]) +
+                "); move or perturb the background mesh";
+    d.facets = {static_cast<long>(m_.triangle_source[x])};
+    d.points = {{p[0], p[1], p[2]}};
+    report_.add(std::move(d));
+    return false;
+  }
+
+  // ---- one tet ------------------------------------------------------------------------------
+
+  [[nodiscard]] PatchId patch(std::uint32_t x) const { return c_.cut_triangle_patch[x]; }
+  [[nodiscard]] RegionId side_region(std::uint32_t x, bool inner) const {
+    const PatchSides& s = c_.complex.sides(patch(x));
+    return inner ? s.negative : s.positive;
+  }
+
+  void process_tet(std::uint32_t t, std::size_t begin, std::size_t end) {
+    const std::uint32_t base = static_cast<std::uint32_t>(out_.region.size());
+    if (begin == end) {
+      add_local_region(t, RegionId());
+      return;
+    }
+    TetGeometry g;
+    for (int k = 0; k < 4; ++k) g.v[k] = points_[static_cast<std::size_t>(bg_.tets[t][k])];
+    polys_.clear();
+    Polygon poly;
+    for (std::size_t c = begin; c < end; ++c) {
+      if (!clip(t, g, candidates_[c].second, poly)) return;
+      if (!poly.vertices.empty()) polys_.push_back(poly);
+    }
+    if (polys_.empty()) {
+      add_local_region(t, RegionId());
+      return;
+    }
+    out_.polygons += polys_.size();
+    const std::size_t n = polys_.size();
+
+    // Pieces and sides: polygons meet only along parts of cut edges inside the tet.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // (geometric edge, polygon)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const Polygon& p = polys_[i];
+      triangle_has_polygon_[p.triangle] = 1;
+      for (std::size_t e = 0; e < p.vertices.size(); ++e) {
+        const int k = p.edge_origin[e];
+        if (k >= 3) continue;
+        const auto& tri = m_.triangles[p.triangle];
+        edges.emplace_back(edge_key(m_.vertex_point[tri[k]], m_.vertex_point[tri[(k + 1) % 3]]), i);
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    UnionFind pieces(n), sides(2 * n);  // side 2i: outer, 2i + 1: inner
+    std::unordered_map<std::uint32_t, std::uint32_t> local_of;  // cut triangle -> polygon
+    for (std::uint32_t i = 0; i < n; ++i) local_of.emplace(polys_[i].triangle, i);
+    for (std::size_t a = 0; a < edges.size();) {
+      std::size_t b = a;
+      while (b < edges.size() && edges[b].first == edges[a].first) ++b;
+      for (std::size_t i = a + 1; i < b; ++i) pieces.unite(edges[a].second, edges[i].second);
+      if (b - a == 2) {
+        const std::uint32_t p = edges[a].second, q = edges[a + 1].second;
+        sides.unite(2 * p, 2 * q);
+        sides.unite(2 * p + 1, 2 * q + 1);
+      } else {
+        IMM_ASSERT(b - a == 4, "a cut edge inside a tet with " + std::to_string(b - a) + " polygons");
+        const auto arc = arc_edge_.find(edges[a].first);
+        IMM_ASSERT(arc != arc_edge_.end(), "four polygons at an edge that is not on an arc");
+        const CutPiece& piece = m_.pieces[arc->second];
+        const auto local = [&](std::uint32_t sub) {
+          const auto it = local_of.find(sub);
+          IMM_ASSERT(it != local_of.end(), "a sheet at an arc inside a tet has no polygon");
+          return it->second;
+        };
+        const std::uint32_t ap = local(piece.side[0][0]), an = local(piece.side[0][1]);
+        const std::uint32_t bp = local(piece.side[1][0]), bn = local(piece.side[1][1]);
+        // The four wedges, as in the cell complex (dim3/complex3.cpp, glue_wedges).
+        sides.unite(2 * ap + 1, 2 * bn);
+        sides.unite(2 * bn + 1, 2 * an + 1);
+        sides.unite(2 * an, 2 * bp + 1);
+        sides.unite(2 * bp, 2 * ap);
+      }
+      a = b;
+    }
+    // Compact piece ids and side classes (per piece).
+    std::vector<std::uint32_t> piece_of(n), piece_id(n, kNone);
+    std::vector<PieceSides> piece_list;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint32_t r = pieces.find(i);
+      if (piece_id[r] == kNone) {
+        piece_id[r] = static_cast<std::uint32_t>(piece_list.size());
+        piece_list.emplace_back();
+      }
+      piece_of[i] = piece_id[r];
+      piece_list[piece_of[i]].polygons.push_back(i);
+    }
+    std::vector<std::uint32_t> class_of(2 * n, kNone), class_root(2 * n, kNone);
+    for (std::uint32_t s = 0; s < 2 * n; ++s) {
+      const std::uint32_t r = sides.find(s);
+      if (class_root[r] == kNone) class_root[r] = piece_list[piece_of[s / 2]].class_count++;
+      class_of[s] = class_root[r];
+    }
+    out_.pieces += piece_list.size();
+
+    // Local regions: class tuples over all pieces.
+    const std::size_t k = piece_list.size();
+    std::vector<std::vector<std::uint32_t>> inside(k, std::vector<std::uint32_t>(k, kNone));  // [i][j]: class of i holding j
+    for (std::size_t i = 0; i < k; ++i)
+      for (std::size_t j = 0; j < k; ++j)
+        if (i != j) inside[i][j] = class_of_point(interior_point(polys_[piece_list[j].polygons.front()], 0), piece_list[i], class_of);
+    std::map<std::vector<std::uint32_t>, std::uint32_t> lr_of_key;
+    std::vector<std::vector<std::uint32_t>> lr_of_class(k);
+    for (std::size_t i = 0; i < k; ++i) {
+      lr_of_class[i].assign(piece_list[i].class_count, kNone);
+      for (std::uint32_t cl = 0; cl < piece_list[i].class_count; ++cl) {
+        std::vector<std::uint32_t> key(k);
+        for (std::size_t j = 0; j < k; ++j) key[j] = j == i ? cl : inside[j][i];
+        const auto [it, inserted] = lr_of_key.emplace(std::move(key), static_cast<std::uint32_t>(out_.region.size()));
+        if (inserted) add_local_region(t, RegionId());
+        lr_of_class[i][cl] = it->second;
+      }
+    }
+    const auto lr_of_side = [&](std::uint32_t poly, bool inner) {
+      return lr_of_class[piece_of[poly]][class_of[2 * poly + (inner ? 1 : 0)]];
+    };
+    if (out_.region.size() - base > 1) ++out_.cut_tets;
+
+    // Regions, fusions, traces, embedded pieces, input vertices.
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const Polygon& p = polys_[i];
+      const std::uint32_t outer = lr_of_side(i, false), inner = lr_of_side(i, true);
+      set_region(outer, side_region(p.triangle, false));
+      set_region(inner, side_region(p.triangle, true));
+      if (inner != outer) fusions_.push_back({inner, outer, patch(p.triangle)});
+      if (record_) {
+        out_.embedded.push_back({inner, p.triangle, true});
+        out_.embedded.push_back({outer, p.triangle, false});
+      }
+      for (std::size_t e = 0; e < p.vertices.size(); ++e) {
+        if (p.edge_origin[e] >= 3) traces_.push_back({t, static_cast<std::uint8_t>(p.edge_origin[e] - 3), p.triangle, outer, inner});
+        const ClipVertex& v = p.vertices[e];
+        if (v.corner < 0) continue;
+        const std::uint32_t point = m_.vertex_point[static_cast<std::size_t>(v.corner)];
+        if (point >= out_.vertices.size() || out_.vertices[point].local_region != kNone) continue;
+        out_.vertices[point] = {inner, patch(p.triangle), barycentric(g, v.point)};
+      }
+    }
+    std::sort(fusions_.begin(), fusions_.end(), [](const auto& a, const auto& b) {
+      return std::tie(a.inner, a.outer, a.patch) < std::tie(b.inner, b.outer, b.patch);
+    });
+    fusions_.erase(std::unique(fusions_.begin(), fusions_.end(),
+                               [](const auto& a, const auto& b) {
+                                 return a.inner == b.inner && a.outer == b.outer && a.patch == b.patch;
+                               }),
+                   fusions_.end());
+    out_.fusions.insert(out_.fusions.end(), fusions_.begin(), fusions_.end());
+    fusions_.clear();
+
+    // Faces without traces lie in one local region: the one holding the face's centroid.
+    std::uint8_t traced = 0;
+    for (const Polygon& p : polys_)
+      for (std::uint8_t o : p.edge_origin)
+        if (o >= 3) traced |= static_cast<std::uint8_t>(1u << (o - 3));
+    for (int f = 0; f < 4; ++f) {
+      if ((traced >> f) & 1u) continue;
+      const Point y = CGAL::centroid(g.v[kFace[f][0]], g.v[kFace[f][1]], g.v[kFace[f][2]]);
+      std::vector<std::uint32_t> key(k);
+      for (std::size_t j = 0; j < k; ++j) key[j] = class_of_point(y, piece_list[j], class_of);
+      const auto it = lr_of_key.find(key);
+      IMM_ASSERT(it != lr_of_key.end(), "a face point in no local region");
+      face_region_[4 * t + static_cast<std::size_t>(f)] = it->second;
+    }
+  }
+
+  [[nodiscard]] std::array<double, 4> barycentric(const TetGeometry& g, const Point& p) const {
+    const FT whole = CGAL::determinant(g.v[1] - g.v[0], g.v[2] - g.v[0], g.v[3] - g.v[0]);
+    std::array<double, 4> w{};
+    for (int k = 0; k < 4; ++k) {
+      std::array<Point, 4> q = g.v;
+      q[k] = p;
+      w[k] = CGAL::to_double(CGAL::exact(CGAL::determinant(q[1] - q[0], q[2] - q[0], q[3] - q[0]) / whole));
+    }
+    return w;
+  }
+
+  void add_local_region(std::uint32_t t, RegionId region) {
+    out_.region.push_back(region);
+    out_.tet.push_back(t);
+  }
+
+  void set_region(std::uint32_t lr, RegionId region) {
+    IMM_ASSERT(!out_.region[lr].is_valid() || out_.region[lr] == region, "a local region lies in two regions");
+    out_.region[lr] = region;
+  }
+
+  // ---- which side of a piece -----------------------------------------------------------------
+
+  /// A point strictly inside polygon p: a weighted mean of three of its vertices (variant v
+  /// chooses the vertices and weights; every variant is inside, they differ for retries).
+  static Point interior_point(const Polygon& p, unsigned variant) {
+    const std::size_t n = p.vertices.size();
+    const std::size_t a = variant % n;
+    const std::size_t b = (a + 1) % n, c = (a + 2) % n;
+    static constexpr int kWeights[4][3] = {{1, 1, 1}, {3, 2, 2}, {2, 3, 2}, {2, 2, 3}};
+    const auto& w = kWeights[(variant / n) % 4];
+    const FT sum = w[0] + w[1] + w[2];
+    const Point& pa = p.vertices[a].point;
+    const Point& pb = p.vertices[b].point;
+    const Point& pc = p.vertices[c].point;
+    return Point((w[0] * pa.x() + w[1] * pb.x() + w[2] * pc.x()) / sum,
+                 (w[0] * pa.y() + w[1] * pb.y() + w[2] * pc.y()) / sum,
+                 (w[0] * pa.z() + w[1] * pb.z() + w[2] * pc.z()) / sum);
+  }
+
+  /// The first cut triangle among `triangles` that the segment from x to m crosses, and whether
+  /// x is on its inner side; nullopt when the segment is not clean (through an edge or a vertex,
+  /// in a triangle's plane, or two crossings at once). x must not lie on any of the triangles.
+  /// `m_plane`: an input triangle whose plane holds m by construction (the sub-triangles of one
+  /// input triangle are coplanar), so that the orientation of m against those is known without
+  /// evaluating an exact zero; UINT32_MAX when none.
+  std::optional<std::pair<std::uint32_t, bool>> first_crossing(const Point& x, const Point& m, std::uint32_t m_plane,
+                                                               const std::vector<std::uint32_t>& triangles) const {
+    std::optional<FT> best;
+    std::pair<std::uint32_t, bool> hit{0, false};
+    for (std::uint32_t tri : triangles) {
+      const Point &a = corner(tri, 0), &b = corner(tri, 1), &c = corner(tri, 2);
+      const CGAL::Orientation ox = CGAL::orientation(a, b, c, x);
+      const bool m_on_plane = m_.triangle_source[tri] == m_plane;
+      const CGAL::Orientation om = m_on_plane ? CGAL::ZERO : CGAL::orientation(a, b, c, m);
+      if (ox == CGAL::ZERO && om == CGAL::ZERO) {
+        if (CGAL::do_intersect(EK::Segment_3(x, m), EK::Triangle_3(a, b, c))) return std::nullopt;
+        continue;
+      }
+      if (ox == CGAL::ZERO || ox == om) continue;  // x is off the triangles; no crossing
+      const CGAL::Orientation e0 = CGAL::orientation(x, m, a, b);
+      const CGAL::Orientation e1 = CGAL::orientation(x, m, b, c);
+      const CGAL::Orientation e2 = CGAL::orientation(x, m, c, a);
+      const bool pos = e0 == CGAL::POSITIVE || e1 == CGAL::POSITIVE || e2 == CGAL::POSITIVE;
+      const bool neg = e0 == CGAL::NEGATIVE || e1 == CGAL::NEGATIVE || e2 == CGAL::NEGATIVE;
+      if (pos && neg) continue;  // the line passes beside the triangle
+      if (e0 == CGAL::ZERO || e1 == CGAL::ZERO || e2 == CGAL::ZERO) {
+        // Through an edge or a vertex, or (om == ZERO) m in the triangle's plane: only clean when
+        // the line misses the closed triangle, which the three signs just ruled out.
+        return std::nullopt;
+      }
+      if (om == CGAL::ZERO) {
+        // The segment ends on the plane: it crosses iff m is inside the triangle (checked above).
+      }
+      FT lambda(1);  // m itself when it lies on the triangle's plane
+      if (om != CGAL::ZERO) {
+        const FT vx = CGAL::determinant(b - a, c - a, x - a);
+        const FT vm = CGAL::determinant(b - a, c - a, m - a);
+        lambda = vx / (vx - vm);
+      }
+      if (!best || lambda < *best) {
+        best = lambda;
+        hit = {tri, ox == CGAL::NEGATIVE};
+      } else if (lambda == *best) {
+        return std::nullopt;
+      }
+    }
+    if (!best) return std::nullopt;
+    return hit;
+  }
+
+  /// The side class of `piece` whose local region holds point x (x off the piece).
+  std::uint32_t class_of_point(const Point& x, const PieceSides& piece, const std::vector<std::uint32_t>& class_of) {
+    ++out_.side_tests;
+    if (piece.class_count == 1) return 0;
+    std::vector<std::uint32_t> triangles;
+    triangles.reserve(piece.polygons.size());
+    for (std::uint32_t i : piece.polygons) triangles.push_back(polys_[i].triangle);
+    for (unsigned variant = 0; variant < 64; ++variant) {
+      for (std::uint32_t i : piece.polygons) {
+        const Point m = interior_point(polys_[i], variant);
+        const auto hit = first_crossing(x, m, m_.triangle_source[polys_[i].triangle], triangles);
+        if (!hit) continue;
+        std::uint32_t poly = kNone;
+        for (std::uint32_t j : piece.polygons)
+          if (polys_[j].triangle == hit->first) poly = j;
+        return class_of[2 * poly + (hit->second ? 1 : 0)];
+      }
+    }
+    IMM_ASSERT(false, "no clean segment to a piece");
+    return 0;
+  }
+
+  // ---- faces ----------------------------------------------------------------------------------
+
+  struct Trace {
+    std::uint32_t tet;
+    std::uint8_t face;
+    std::uint32_t triangle;
+    std::uint32_t outer, inner;
+  };
+
+  void connect_faces() {
+    // Faces keyed by their sorted vertex ids.
+    struct FaceRef {
+      std::array<int, 3> key;
+      std::uint32_t tet;
+      std::uint8_t f;
+    };
+    std::vector<FaceRef> faces;
+    faces.reserve(4 * bg_.tets.size());
+    for (std::uint32_t t = 0; t < bg_.tets.size(); ++t)
+      for (std::uint8_t f = 0; f < 4; ++f) {
+        std::array<int, 3> key = {bg_.tets[t][kFace[f][0]], bg_.tets[t][kFace[f][1]], bg_.tets[t][kFace[f][2]]};
+        std::sort(key.begin(), key.end());
+        faces.push_back({key, t, f});
+      }
+    std::sort(faces.begin(), faces.end(), [](const FaceRef& a, const FaceRef& b) {
+      return std::tie(a.key, a.tet, a.f) < std::tie(b.key, b.tet, b.f);
+    });
+    std::sort(traces_.begin(), traces_.end(), [](const Trace& a, const Trace& b) {
+      return std::tie(a.tet, a.face, a.triangle) < std::tie(b.tet, b.face, b.triangle);
+    });
+    const auto traces_of = [&](std::uint32_t t, std::uint8_t f) {
+      const auto lo = std::lower_bound(traces_.begin(), traces_.end(), std::make_pair(t, f),
+                                       [](const Trace& a, const std::pair<std::uint32_t, std::uint8_t>& k) {
+                                         return std::tie(a.tet, a.face) < std::tie(k.first, k.second);
+                                       });
+      auto hi = lo;
+      while (hi != traces_.end() && hi->tet == t && hi->face == f) ++hi;
+      return std::make_pair(lo, hi);
+    };
+    const auto face_lr = [&](std::uint32_t t, std::uint8_t f) {
+      if (out_.first[t + 1] - out_.first[t] == 1) return out_.first[t];
+      const std::uint32_t lr = face_region_[4 * t + f];
+      IMM_ASSERT(lr != kNone, "an untraced face without a local region");
+      return lr;
+    };
+    for (std::size_t i = 0; i < faces.size();) {
+      std::size_t j = i + 1;
+      while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+      const FaceRef& a = faces[i];
+      if (j - i > 2) {
+        background_defect(DefectKind::NonManifoldEdge, "background face (" + std::to_string(a.key[0]) + ", " +
+                                                           std::to_string(a.key[1]) + ", " + std::to_string(a.key[2]) +
+                                                           ") is shared by " + std::to_string(j - i) + " tets",
+                          a.key);
+      } else if (j - i == 1) {
+        boundary_.push_back({a.tet, a.f});
+        const auto [lo, hi] = traces_of(a.tet, a.f);
+        if (lo != hi && boundary_crossing_ == kNone) boundary_crossing_ = static_cast<std::uint32_t>(lo - traces_.begin());
+      } else {
+        const FaceRef& b = faces[i + 1];
+        const auto [alo, ahi] = traces_of(a.tet, a.f);
+        const auto [blo, bhi] = traces_of(b.tet, b.f);
+        IMM_ASSERT(ahi - alo == bhi - blo, "a cut triangle crosses a shared face in one tet only");
+        if (alo == ahi) {
+          out_.adjacencies.push_back({face_lr(a.tet, a.f), face_lr(b.tet, b.f), a.key});
+        } else {
+          for (auto x = alo, y = blo; x != ahi; ++x, ++y) {
+            IMM_ASSERT(x->triangle == y->triangle, "the two tets of a face see different traces");
+            out_.adjacencies.push_back({x->outer, y->outer, a.key});
+            out_.adjacencies.push_back({x->inner, y->inner, a.key});
+          }
+        }
+      }
+      i = j;
+    }
+    std::sort(out_.adjacencies.begin(), out_.adjacencies.end(), [](const auto& x, const auto& y) {
+      return std::tie(x.first, x.second, x.face) < std::tie(y.first, y.second, y.face);
+    });
+    out_.adjacencies.erase(std::unique(out_.adjacencies.begin(), out_.adjacencies.end(),
+                                       [](const auto& x, const auto& y) {
+                                         return x.first == y.first && x.second == y.second && x.face == y.face;
+                                       }),
+                           out_.adjacencies.end());
+  }
+
+  void background_defect(DefectKind kind, std::string message, const std::array<int, 3>& face) {
+    Defect d;
+    d.kind = kind;
+    d.stage = "background";
+    d.message = std::move(message);
+    d.vertices = {face[0], face[1], face[2]};
+    report_.add(std::move(d));
+  }
+
+  // ---- regions --------------------------------------------------------------------------------
+
+  void resolve_regions() {
+    const std::size_t n = out_.region.size();
+    UnionFind same(n);
+    for (const auto& a : out_.adjacencies) same.unite(a.first, a.second);
+    std::vector<RegionId> root_region(n);
+    for (std::uint32_t lr = 0; lr < n; ++lr) {
+      if (!out_.region[lr].is_valid()) continue;
+      RegionId& r = root_region[same.find(lr)];
+      IMM_ASSERT(!r.is_valid() || r == out_.region[lr], "two regions meet across a face part free of the input");
+      r = out_.region[lr];
+    }
+    for (std::uint32_t lr = 0; lr < n; ++lr) {
+      if (out_.region[lr].is_valid()) continue;
+      RegionId& r = root_region[same.find(lr)];
+      if (!r.is_valid()) {
+        r = locate(out_.tet[lr]);
+        ++out_.point_locations;
+      }
+      out_.region[lr] = r;
+    }
+  }
+
+  /// The region holding the centroid of tet t (a tet the input does not meet): the first cut
+  /// triangle crossed by an exact segment from it to a point inside some cut triangle.
+  RegionId locate(std::uint32_t t) const {
+    Point q = CGAL::centroid(points_[static_cast<std::size_t>(bg_.tets[t][0])], points_[static_cast<std::size_t>(bg_.tets[t][1])],
+                             points_[static_cast<std::size_t>(bg_.tets[t][2])], points_[static_cast<std::size_t>(bg_.tets[t][3])]);
+    std::vector<std::uint32_t> all(m_.triangles.size());
+    std::iota(all.begin(), all.end(), 0u);
+    for (std::uint32_t aim = 0; aim < m_.triangles.size(); ++aim) {
+      for (unsigned variant = 0; variant < 4; ++variant) {
+        Polygon p;
+        for (int k = 0; k < 3; ++k) p.vertices.push_back({corner(aim, k), 0, -1});
+        const auto hit = first_crossing(q, interior_point(p, 3 * variant), m_.triangle_source[aim], all);
+        if (hit) return side_region(hit->first, hit->second);
+      }
+    }
+    IMM_ASSERT(false, "exact point location found no clean segment");
+    return RegionId();
+  }
+
+  // ---- coverage -------------------------------------------------------------------------------
+
+  void not_covered(std::string message, const Point3& p) {
+    Defect d;
+    d.kind = DefectKind::NotCovered;
+    d.stage = "mesh";
+    d.message = std::move(message);
+    d.points.push_back({p[0], p[1], p[2]});
+    report_.add(std::move(d));
+  }
+
+  void check_coverage() {
+    // The input must not cross the background's boundary, and no boundary face may have a cell
+    // on its inner side (the background would end inside a cell).
+    if (boundary_crossing_ != kNone) {
+      const Trace& tr = traces_[boundary_crossing_];
+      const Point3& p = bg_.vertices[static_cast<std::size_t>(bg_.tets[tr.tet][kFace[tr.face][0]])];
+      not_covered("the input (triangle " + std::to_string(m_.triangle_source[tr.triangle]) +
+                      ") crosses the boundary of the background mesh at boundary tet " + std::to_string(tr.tet) +
+                      " near " + format_point(p),
+                  p);
+      return;
+    }
+    for (const auto& [t, f] : boundary_) {
+      const auto& tet = bg_.tets[t];
+      const Point3& p = bg_.vertices[static_cast<std::size_t>(tet[kFace[f][0]])];
+      if (out_.first[t + 1] - out_.first[t] > 1 && face_region_[4 * t + f] == kNone) continue;  // traced
+      const std::uint32_t lr = out_.first[t + 1] - out_.first[t] == 1 ? out_.first[t] : face_region_[4 * t + f];
+      const int w = c_.complex.winding_number(out_.region[lr]);
+      if (w != 0) {
+        not_covered("the background mesh ends inside a cell (winding number " + std::to_string(w) +
+                        ") at boundary tet " + std::to_string(t) + " near " + format_point(p),
+                    p);
+        return;
+      }
+    }
+    for (std::uint32_t x = 0; x < m_.triangles.size(); ++x) {
+      if (triangle_has_polygon_[x]) continue;
+      const Point& a = corner(x, 0);
+      const Point3 p{CGAL::to_double(a.x()), CGAL::to_double(a.y()), CGAL::to_double(a.z())};
+      not_covered("the background mesh does not cover input triangle " + std::to_string(m_.triangle_source[x]) +
+                      " near " + format_point(p),
+                  p);
+      return;
+    }
+  }
+
+  const Complex3& c_;
+  const CutMesh& m_;
+  const TetMesh& bg_;
+  const bool record_;
+  ValidationReport& report_;
+  bool& non_generic_;
+
+  std::vector<Point> points_;
+  std::unordered_map<std::uint64_t, std::uint32_t> arc_edge_;  ///< geometric cut edge -> CutPiece
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
+  std::vector<Polygon> polys_;
+  std::vector<LocalRegions3::Fusion> fusions_;
+  std::vector<Trace> traces_;
+  std::vector<std::uint32_t> face_region_;  ///< per (tet, face) without traces in a cut tet
+  std::vector<char> triangle_has_polygon_;
+  std::vector<std::pair<std::uint32_t, std::uint8_t>> boundary_;
+  std::uint32_t boundary_crossing_ = kNone;  ///< a trace on a boundary face, if any
+  LocalRegions3 out_;
+};
+
+}  // namespace
+
+LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, bool record_embedded,
+                                     ValidationReport& report, bool& non_generic) {
+  IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
+  return VirtualTets(complex, background, record_embedded, report, non_generic).run();
+}
+
+}  // namespace imm::dim3::detail
