@@ -52,7 +52,7 @@ constexpr const char* kMainHelp = R"(usage: immerse [COMMAND] [ARGS...]
 
 Immersion of self-intersecting curves and surfaces (Li & Barbic 2018, "Immersion of
 Self-Intersecting Solids and Surfaces"): cell complex, every immersion, and an unglued simulation
-mesh (2D; 3D meshing is issue 4).
+mesh (triangles in 2D, tets in 3D).
 
 commands:
   (none)                           the main job on a bundled curve with two immersions; writes
@@ -60,7 +60,7 @@ commands:
   check IN                         validate the input; list every defect with its location
   cells IN [--json OUT]            the cell complex: regions, cells, patches, arcs, windings
   immersions IN [options]          the immersion search (paper §6, Algorithm 1)
-  mesh IN [options]                mesh one immersion (paper §7; 2D curves for now)
+  mesh IN [options]                mesh one immersion (paper §7): triangles in 2D, tets in 3D
   generate NAME [PARAMS] [-o OUT]  procedural curves and surfaces; 'generate --list' names them
   help [COMMAND]                   this text, or the options of one command (also CMD --help)
 
@@ -83,8 +83,7 @@ exit codes:
   3   valid input that is not immersible: an inverted region (negative winding number), the
       conflicting rule with its cells and patches, a possibly self-connecting cell, or
       "search budget exhausted after N states"
-  64  bad command line (unknown command or option, missing or malformed value; also 'mesh' on
-      a 3D surface, not implemented yet)
+  64  bad command line (unknown command or option, missing or malformed value)
 
 A one-line timing summary is always printed on stderr, progress messages too when stderr is a
 terminal. Outputs are written to '<path>.tmp.<pid>' and renamed: never a partial file.
@@ -143,26 +142,39 @@ Exit codes: 0 immersible, 3 not immersible / inverted / self-connecting cell / b
 (the JSON is written in every case), 2 invalid input, 64 bad command line, 1 internal error.
 )";
 
-constexpr const char* kMeshHelp = R"(usage: immerse mesh IN [--resolution N | --background FILE.mesh] [--conforming]
-                     [--immersion K] [--method clip] [-o OUT.mesh] [--embedding OUT.emb]
-                     [--svg OUT.svg] [--json OUT]
+constexpr const char* kMeshHelp = R"(usage: immerse mesh IN [--resolution N | --background FILE] [--conforming]
+                     [--immersion K | --all] [--method clip] [-o OUT] [--embedding OUT.emb]
+                     [--svg OUT.svg] [--threads N] [--json OUT]
 
-Meshes one immersion of IN (paper §7): a background triangulation, virtual triangles where the
-input cuts a triangle, one copy per graph node, copies fused across graph edges. 2D curves only:
-3D meshing is not implemented yet (issue 4; a 3D surface exits with code 64).
+Meshes one immersion of IN (paper §7): a background mesh, virtual elements where the input cuts
+an element (exact clipping), one copy per graph node, copies fused across graph edges, so that
+overlapping and nearly touching parts are not glued.
+2D (curves): triangles.
   --resolution N        background edges across the bounding-box diagonal (N >= 1; default 24)
   --background FILE     use this Medit .mesh (Dimension 2) as the background instead
   --conforming          insert the input as constraints (no triangle is cut by the input)
+  --svg OUT.svg         the output mesh pulled apart by sheet
+  -o OUT.mesh           Medit; each triangle's reference = its graph node
+3D (surfaces): tets.
+  --resolution N        grid cubes (6 Kuhn tets each) along the longest side of the input's box
+                        (1..150; default 16); the grid is shifted and retried when it touches
+                        the input non-generically
+  --background FILE     a tet mesh instead: Vega .veg, Medit .mesh, TetGen .node/.ele (it must
+                        cover the input and meet it generically, else exit 2)
+  --all                 mesh every immersion: OUT_K.ext and OUT_K.emb for immersion K
+  --threads N           threads for the virtual tets (0 = all cores; the output is the same)
+  --no-helper-boxes     do not cut self-connecting cells (helper-box tets are otherwise dropped)
+  -o OUT.mesh|.vtu|.veg Medit (reference = graph node), VTK XML for ParaView, or Vega
+Both:
   --immersion K         which immersion (0-based, in the search's order; default 0)
   --method clip         the paper's method (the CSG baseline, 'csg', is not implemented yet)
-  --max-states N, --time-limit S   search budgets, as for 'immerse immersions' 
-  -o OUT.mesh           the output mesh (Medit; each triangle's reference = its graph node)
-  --embedding OUT.emb   per input vertex: output triangle and barycentric weights
-  --svg OUT.svg         the output mesh pulled apart by sheet
-  --json OUT            counts (background, cut and output triangles, vertices, copies per cell)
+  --max-states N, --time-limit S   search budgets, as for 'immerse immersions'
+  --embedding OUT.emb   per input vertex: output element and barycentric weights
+  --json OUT            counts (background, cut and output elements, vertices, copies per cell)
                         and timings
-Exit codes: 0 ok, 2 invalid input or background not covering the input, 3 not immersible,
-64 bad command line (also: --immersion K beyond the immersions found), 1 internal error.
+Exit codes: 0 ok, 2 invalid input or a background not covering the input (or touching it
+non-generically), 3 not immersible, 64 bad command line (also: --immersion K beyond the
+immersions found), 1 internal error.
 )";
 
 constexpr const char* kGenerateHelp = R"(usage: immerse generate NAME [PARAMS...] [-o OUT]
@@ -966,6 +978,9 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
   return kExitOk;
 }
 
+/// Largest 3D grid resolution: 6 x 152^3 tets is about 21 million.
+constexpr int kMaxResolution3 = 150;
+
 int command_mesh(Session& s, const CommandLine& cl) {
   const CliEnvironment& env = s.env();
   dim2::MeshOptions options;
@@ -991,11 +1006,28 @@ int command_mesh(Session& s, const CommandLine& cl) {
   }
   SearchRequest request;
   if (std::string error = parse_search_request(cl, request); !error.empty()) return usage_error(env, "mesh", error);
-  request.max_immersions = k + 1;
+  const bool all = cl.has("--all");
+  request.max_immersions = all ? 0 : k + 1;
   if (is_surface_file(cl.positional[0])) {
-    env.err << "immerse mesh: '" << cl.positional[0] << "': 3D meshing is not implemented yet (issue 4)\n";
-    return kExitUsage;
+    dim3::MeshOptions3 options3;
+    if (options.background_path) options3.background_path = options.background_path;
+    if (cl.has("--resolution")) {
+      if (options.resolution > kMaxResolution3) {
+        return usage_error(env, "mesh", "--resolution " + std::to_string(options.resolution) + ": at most " +
+                                            std::to_string(kMaxResolution3) + " grid cubes along the longest side in 3D");
+      }
+      options3.resolution = options.resolution;
+    }
+    if (auto v = cl.value("--threads")) {
+      auto n = parse_integer("--threads", *v, 0, 1024);
+      if (auto* e = std::get_if<UsageError>(&n)) return usage_error(env, "mesh", e->message);
+      options3.threads = static_cast<unsigned>(std::get<long long>(n));
+    }
+    if (all && cl.has("--immersion")) return usage_error(env, "mesh", "--all and --immersion exclude each other");
+    return mesh_surface(s, cl, request, options3, k, all);
   }
+  for (const char* option : {"--all", "--threads", "--no-helper-boxes"})
+    if (cl.has(option)) return usage_error(env, "mesh", std::string(option) + " is for 3D surfaces only");
 
   s.enable_summary();
   Prepared p;
@@ -1160,7 +1192,8 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
     const std::vector<OptionSpec> specs = {
         {"--resolution", true}, {"--background", true}, {"--conforming", false}, {"--immersion", true},
         {"--method", true},     {"-o", true},           {"--embedding", true},   {"--svg", true},
-        {"--json", true},       {"--max-states", true}, {"--time-limit", true}};
+        {"--json", true},       {"--max-states", true}, {"--time-limit", true}, {"--all", false},
+        {"--threads", true},    {"--no-helper-boxes", false}};
     if (auto code = parse_or_exit(env, command, args, specs, 1, 1, cl)) return *code;
     return command_mesh(s, cl);
   }

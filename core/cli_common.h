@@ -29,6 +29,7 @@
 #include "core/diagnostics.h"
 #include "core/graph_search.h"
 #include "core/report_json.h"
+#include "dim3/mesh3.h"
 
 namespace imm::cli {
 
@@ -294,6 +295,10 @@ int check_surface(Session& s, const std::string& path);
 int cells_surface(Session& s, const CommandLine& cl);
 /// `immerse immersions IN [...]` on a surface (helper boxes for self-connecting cells).
 int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& request);
+/// `immerse mesh IN [...]` on a surface: immersion k (or every one when `all`), written as
+/// .mesh/.vtu/.veg, .emb and JSON.
+int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions3& options,
+                 std::size_t k, bool all);
 
 /// One line of `immerse generate --list`.
 struct GeneratorEntry {

@@ -18,6 +18,7 @@
 #include "core/cli_common.h"
 #include "dim3/complex3.h"
 #include "dim3/generators3.h"
+#include "dim3/mesh3.h"
 #include "dim3/self_connecting.h"
 #include "dim3/surface.h"
 
@@ -335,9 +336,14 @@ int cells_surface(Session& s, const CommandLine& cl) {
   return kExitOk;
 }
 
-int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& request) {
-  PreparedSurface p;
-  p.path = cl.positional[0];
+namespace {
+
+/// Reads the surface, builds the complex and searches, cutting self-connecting cells with helper
+/// boxes when allowed. On invalid input or an inversion prints the verdict, writes the early JSON
+/// when asked, and @return its exit code; otherwise kExitOk with p.complex set (the search's
+/// verdict is in im.search).
+int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, const SearchRequest& request,
+                      dim3::Immersed3& im) {
   const auto json_path = cl.value("--json");
   const auto fail_early = [&](int code) {
     if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report"))
@@ -351,9 +357,8 @@ int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& r
   options.build.exact_volumes = false;      // the search reads no volume
   options.build.progress = s.progress("");  // the library's messages name their stages
   options.search = search_options(s, request);
-  const bool boxes_allowed = !cl.has("--no-helper-boxes");
-  if (!boxes_allowed) options.max_boxes = 0;
-  const dim3::Immersed3 im = dim3::immerse_surface(p.surface, options);
+  if (cl.has("--no-helper-boxes")) options.max_boxes = 0;
+  im = dim3::immerse_surface(p.surface, options);
   s.add_time("complex", im.build_seconds);
   for (const std::string& note : im.notes) s.err() << "immerse: note: " << note << '\n';
 
@@ -378,6 +383,34 @@ int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& r
   p.complex = im.build.complex;
   if (p.complex->reversed) print_reversed_note(s, p);
   s.add_time("search", im.search_seconds);
+  return kExitOk;
+}
+
+/// The hint after "not immersible" when helper boxes were involved.
+std::string helper_box_hint(const dim3::Immersed3& im, bool boxes_allowed) {
+  const std::size_t boxes = im.helper_boxes.size();
+  std::string hint;
+  if (im.search.status == ImmersionStatus::SelfConnectingCell && !boxes_allowed) {
+    hint = " (helper boxes disabled by --no-helper-boxes)";
+  } else if (im.search.status == ImmersionStatus::SelfConnectingCell) {
+    hint = " (still self-connecting after " + plural(boxes, "helper box", "helper boxes") + ")";
+  }
+  if (boxes > 0) {
+    hint += " [cell, patch and arc ids refer to the input with " + plural(boxes, "helper box", "helper boxes") +
+            " added; see the notes above]";
+  }
+  return hint;
+}
+
+}  // namespace
+
+int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& request) {
+  PreparedSurface p;
+  p.path = cl.positional[0];
+  const auto json_path = cl.value("--json");
+  const bool boxes_allowed = !cl.has("--no-helper-boxes");
+  dim3::Immersed3 im;
+  if (const int code = immerse_or_report(s, p, cl, request, im); code != kExitOk) return code;
 
   const SearchResult& r = im.search;
   const CellComplex<3>& complex = p.complex->complex;
@@ -385,17 +418,7 @@ int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& r
   s.set_counts(complex_counts(complex) + ", " + immersion_counts(r) +
                (boxes > 0 ? ", " + plural(boxes, "helper box", "helper boxes") : ""));
   if (r.status != ImmersionStatus::Immersible) {
-    std::string hint;
-    if (r.status == ImmersionStatus::SelfConnectingCell && !boxes_allowed) {
-      hint = " (helper boxes disabled by --no-helper-boxes)";
-    } else if (r.status == ImmersionStatus::SelfConnectingCell) {
-      hint = " (still self-connecting after " + plural(boxes, "helper box", "helper boxes") + ")";
-    }
-    if (boxes > 0) {
-      hint += " [cell, patch and arc ids refer to the input with " +
-              plural(boxes, "helper box", "helper boxes") + " added; see the notes above]";
-    }
-    print_no_immersion(s, p.path, r, hint);
+    print_no_immersion(s, p.path, r, helper_box_hint(im, boxes_allowed));
   } else {
     std::string description = describe_input(p) + (p.complex->reversed ? " (reversed)" : "");
     if (boxes > 0) description += " with " + plural(boxes, "helper box", "helper boxes");
@@ -428,6 +451,158 @@ int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& r
   }
   print_written(s);
   return r.status == ImmersionStatus::Immersible ? kExitOk : kExitNotImmersible;
+}
+
+// ---- mesh --------------------------------------------------------------------------------------
+
+namespace {
+
+/// `path` with `_K` before its extension (one file per immersion for `--all`).
+std::string numbered(const std::string& path, std::size_t k) {
+  const std::string ext = extension_of(path);
+  return path.substr(0, path.size() - ext.size()) + "_" + std::to_string(k) + ext;
+}
+
+std::string format_tet_mesh(const std::string& path, const dim3::TetMesh& mesh) {
+  const std::string ext = extension_of(path);
+  if (ext == ".vtu") return dim3::format_vtu(mesh);
+  if (ext == ".veg") return dim3::format_veg(mesh);
+  return dim3::format_medit_3d(mesh);
+}
+
+Json mesh3_json(const dim3::MeshResult3& m, std::size_t k, const Immersion& immersion) {
+  Json j = Json::object();
+  j.set("immersion", k);
+  Json& c = j.set("counts", Json::object());
+  c.set("background_tets", m.stats.background_tets);
+  c.set("candidate_pairs", m.stats.candidate_pairs);
+  c.set("clipped_polygons", m.stats.polygons);
+  c.set("pieces", m.stats.pieces);
+  c.set("cut_tets", m.stats.cut_tets);
+  c.set("side_tests", m.stats.side_tests);
+  c.set("output_tets", m.stats.output_tets);
+  c.set("output_vertices", m.stats.output_vertices);
+  c.set("helper_tets_dropped", m.stats.helper_tets);
+  c.set("generic_attempts", m.stats.attempts);
+  c.set("embedded_vertices", m.embedding.size());
+  c.set("graph_nodes", immersion.layout.node_count());
+  Json& per_cell = c.set("copies_per_cell", Json::array());
+  for (std::size_t n : m.stats.copies_per_cell) per_cell.push(n);
+  j.set("input_shift", point_json(m.stats.input_shift));
+  Json& phases = j.set("mesh_phases_ms", Json::object());
+  phases.set("background", m.stats.seconds_background * 1e3);
+  phases.set("virtual", m.stats.seconds_virtual * 1e3);
+  phases.set("assembly", m.stats.seconds_assembly * 1e3);
+  return j;
+}
+
+}  // namespace
+
+int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions3& options,
+                 std::size_t k, bool all) {
+  for (const char* option : {"--svg", "--conforming"})
+    if (cl.has(option)) return usage_error(s.env(), "mesh", std::string(option) + " is for 2D curves only");
+  if (auto path = cl.value("-o")) {
+    const std::string ext = extension_of(*path);
+    if (ext != ".mesh" && ext != ".vtu" && ext != ".veg")
+      return usage_error(s.env(), "mesh", "-o " + *path + ": a tet mesh is written as .mesh, .vtu or .veg");
+  }
+  if (options.background_path && !dim3::is_tet_mesh_extension(*options.background_path))
+    return usage_error(s.env(), "mesh", "--background " + *options.background_path +
+                                            ": expected a .veg, .mesh, .node or .ele tet mesh");
+  s.enable_summary();
+  PreparedSurface p;
+  p.path = cl.positional[0];
+  const auto json_path = cl.value("--json");
+  const bool boxes_allowed = !cl.has("--no-helper-boxes");
+  dim3::Immersed3 im;
+  if (const int code = immerse_or_report(s, p, cl, request, im); code != kExitOk) return code;
+  const SearchResult& r = im.search;
+  const CellComplex<3>& complex = p.complex->complex;
+  if (r.status != ImmersionStatus::Immersible) {
+    s.set_counts(complex_counts(complex) + ", " + immersion_counts(r));
+    print_no_immersion(s, p.path, r, helper_box_hint(im, boxes_allowed));
+    if (json_path && !s.write(*json_path, search_json(input_json(p), r, s).dump(), "report")) return kExitInternalError;
+    print_written(s);
+    return kExitNotImmersible;
+  }
+  if (r.immersions.size() <= k) {
+    s.set_counts(complex_counts(complex) + ", " + immersion_counts(r));
+    return usage_error(s.env(), "mesh",
+                       "--immersion " + std::to_string(k) + ": '" + p.path + "' has only " +
+                           plural(r.immersions.size(), "immersion") + " (numbered from 0)" +
+                           (r.complete ? "" : "; the search stopped early, raise --max-states"));
+  }
+  dim3::MeshOptions3 mesh_options = options;
+  if (s.show_progress()) mesh_options.progress = [&s](const std::string& m) { s.err() << "immerse: mesh: " << m << '\n'; };
+  Json report = Json::object();
+  report.set("input", input_json(p));
+  report.set("status", "ok");
+  report.set("immersions_found", r.immersions.size());
+  report.set("helper_boxes", helper_boxes_json(im));
+  Json& o = report.set("options", Json::object());
+  o.set("resolution", options.background_path ? Json() : Json(options.resolution));
+  o.set("background", options.background_path ? Json(*options.background_path) : Json());
+  o.set("threads", options.threads);
+  o.set("method", "clip");
+  Json& meshes = report.set("meshes", Json::array());
+  const std::size_t first = all ? 0 : k;
+  const std::size_t last = all ? r.immersions.size() : k + 1;
+  std::size_t total_tets = 0;
+  for (std::size_t i = first; i < last; ++i) {
+    const dim3::MeshResult3 m = s.timed("mesh", [&] {
+      return dim3::mesh_immersion3(*p.complex, r.immersions[i], mesh_options, im.input_vertices, im.input_triangles);
+    });
+    if (!m.report.ok()) {
+      s.err() << "immerse: cannot mesh '" << p.path << "': " << plural(m.report.total(), "defect") << '\n'
+              << m.report.summary();
+      s.set_counts("meshing failed (" + plural(m.report.total(), "defect") + ")");
+      if (json_path) {
+        Json j = Json::object();
+        j.set("input", input_json(p));
+        j.set("status", "invalid-input");
+        j.set("defects", defects_json(m.report, "triangles"));
+        j.set("timings_ms", s.timings_json());
+        if (!s.write(*json_path, j.dump(), "report")) return kExitInternalError;
+      }
+      print_written(s);
+      return kExitInvalidInput;
+    }
+    total_tets += m.stats.output_tets;
+    if (m.stats.input_shift != Point3{0, 0, 0}) {
+      s.err() << "immerse: note: the input touches the background mesh non-generically (an input vertex on a tet "
+                 "face, an edge through a tet edge, ...): meshed the input translated by "
+              << dim3::format_point(m.stats.input_shift)
+              << " relative to the background; the embedding reproduces the translated vertices\n";
+    } else if (m.stats.attempts > 1) {
+      s.err() << "immerse: note: the grid touched the input non-generically; it was shifted "
+              << plural(static_cast<std::size_t>(m.stats.attempts - 1), "time") << '\n';
+    }
+    s.out() << describe_input(p) << ": immersion " << i << " of " << r.immersions.size() << (r.complete ? "" : "+")
+            << " meshed: " << plural(m.stats.output_tets, "tet") << ", " << plural(m.stats.output_vertices, "vertex", "vertices")
+            << " (background " << plural(m.stats.background_tets, "tet") << ", " << m.stats.cut_tets
+            << " cut by the input" << (m.stats.helper_tets > 0 ? ", " + std::to_string(m.stats.helper_tets) + " helper-box tets dropped" : "")
+            << ")\n";
+    Json entry = mesh3_json(m, i, r.immersions[i]);
+    Json& outputs = entry.set("outputs", Json::object());
+    if (auto path = cl.value("-o")) {
+      const std::string out = all ? numbered(*path, i) : *path;
+      if (!s.write(out, format_tet_mesh(out, m.mesh), "the tet mesh (reference = graph node)")) return kExitInternalError;
+      outputs.set("mesh", out);
+    }
+    if (auto path = cl.value("--embedding")) {
+      const std::string out = all ? numbered(*path, i) : *path;
+      if (!s.write(out, dim3::format_embedding3(m.embedding), "the embedding of the input vertices"))
+        return kExitInternalError;
+      outputs.set("embedding", out);
+    }
+    meshes.push(std::move(entry));
+  }
+  s.set_counts(complex_counts(complex) + ", " + immersion_counts(r) + ", " + plural(total_tets, "tet"));
+  report.set("timings_ms", s.timings_json());
+  if (json_path && !s.write(*json_path, report.dump(), "mesh counts and timings (JSON)")) return kExitInternalError;
+  print_written(s);
+  return kExitOk;
 }
 
 // ---- generate ---------------------------------------------------------------------------------

@@ -39,7 +39,7 @@ Box3 input_box(const Surface& s) {
 }  // namespace
 
 MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion, const MeshOptions3& options,
-                            std::size_t input_vertices) {
+                            std::size_t input_vertices, std::size_t input_triangles) {
   MeshResult3 result;
   const CellComplex<3>& cc = complex.complex;
   const NodeLayout& layout = immersion.layout;
@@ -49,33 +49,54 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   IMM_ASSERT(options.resolution >= 1, "resolution must be at least 1");
   input_vertices = std::min(input_vertices, complex.surface.vertex_count());
 
-  // 1-2. Background and local regions; a generated grid is shifted after a non-generic contact.
+  // 1-2. Background and local regions. A contact of the input with the background that is not
+  // generic is avoided, never guessed: a generated grid is shifted and rebuilt; a read background
+  // is kept and the input is translated relative to it by a tiny explicit vector (about 2^-32 of
+  // the input's diagonal), for which every decision is again exact.
+  auto start = std::chrono::steady_clock::now();
+  const Box3 box = input_box(complex.surface);
+  if (options.background_path) {
+    TetReadResult read = read_tet_mesh(*options.background_path);
+    result.report = std::move(read.report);
+    result.background = std::move(read.mesh);
+    if (read.reoriented > 0)
+      log("meshing: " + std::to_string(read.reoriented) + " background tets were negatively oriented and turned");
+    if (!result.report.ok()) return result;
+  }
+  result.stats.seconds_background += seconds_since(start);
   detail::LocalRegions3 local;
+  double diagonal = 0.0;
+  for (int d = 0; d < 3; ++d) diagonal += (box.hi[d] - box.lo[d]) * (box.hi[d] - box.lo[d]);
+  diagonal = std::sqrt(diagonal);
   for (int attempt = 0;; ++attempt) {
-    auto start = std::chrono::steady_clock::now();
-    result.report = ValidationReport();
-    if (options.background_path) {
-      TetReadResult read = read_tet_mesh(*options.background_path);
-      result.report = std::move(read.report);
-      result.background = std::move(read.mesh);
-      if (read.reoriented > 0)
-        log("meshing: " + std::to_string(read.reoriented) + " background tets were negatively oriented and turned");
-    } else {
-      result.background = make_grid_background(input_box(complex.surface), options.resolution, attempt);
+    start = std::chrono::steady_clock::now();
+    Point3 shift{0, 0, 0};
+    if (!options.background_path) {
+      result.background = make_grid_background(box, options.resolution, attempt);
+    } else if (attempt > 0) {
+      const double step = std::ldexp(diagonal, -32) * attempt;
+      shift = {step, step * 0.6180339887498949, step * 0.41421356237309503};
     }
     result.stats.seconds_background += seconds_since(start);
-    if (!result.report.ok()) return result;
     result.stats.background_tets = result.background.tets.size();
     log("meshing: " + std::to_string(result.background.tets.size()) + " background tets" +
-        (attempt > 0 ? " (grid shifted, attempt " + std::to_string(attempt + 1) + ")" : ""));
+        (attempt > 0 ? (options.background_path ? " (input shifted by " + format_point(shift) + ")"
+                                                : " (grid shifted, attempt " + std::to_string(attempt + 1) + ")")
+                     : ""));
 
     start = std::chrono::steady_clock::now();
     bool non_generic = false;
-    local = detail::compute_local_regions3(complex, result.background, options.record_contents, result.report,
-                                           non_generic);
+    ValidationReport report;
+    local = detail::compute_local_regions3(complex, result.background, shift, options.record_contents,
+                                           options.threads, report, non_generic);
     result.stats.seconds_virtual += seconds_since(start);
     result.stats.attempts = attempt + 1;
-    if (non_generic && !options.background_path && attempt + 1 < kMaxAttempts) continue;
+    result.stats.input_shift = shift;
+    if (non_generic && attempt + 1 < kMaxAttempts) {
+      log("meshing: " + report.defects.front().message);
+      continue;
+    }
+    result.report = std::move(report);
     break;
   }
   result.stats.candidate_pairs = local.candidate_pairs;
@@ -88,7 +109,7 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
       " cut tets");
 
   // 3. Atoms, fusions and adjacencies for the driver.
-  const auto start = std::chrono::steady_clock::now();
+  start = std::chrono::steady_clock::now();
   const TetMesh& background = result.background;
   UnglueInput<3> input;
   input.elements.reserve(background.tets.size());
@@ -125,16 +146,41 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
 
   // 4. Duplicate and connect.
   const UnglueResult<3> unglued = unglue<3>(input);
+  // Helper-box solids: graph components owning only patches of helper triangles.
+  std::vector<char> helper_node(layout.node_count(), 0);
+  if (input_triangles < complex.surface.triangle_count()) {
+    IdMap<PatchId, char> user_patch(cc.patch_count(), 0);
+    for (std::size_t x = 0; x < complex.cut_triangles.size(); ++x)
+      if (complex.cut_triangle_source[x] < input_triangles) user_patch[complex.cut_triangle_patch[x]] = 1;
+    for (const std::vector<NodeId>& component : immersion.components()) {
+      bool owns_user_patch = false;
+      for (PatchId q : ids<PatchId>(cc.patch_count()))
+        if (user_patch[q] && std::find(component.begin(), component.end(), immersion.owner[q]) != component.end())
+          owns_user_patch = true;
+      if (!owns_user_patch)
+        for (NodeId n : component) helper_node[n.index()] = 1;
+    }
+  }
+  std::vector<std::uint32_t> copy_index(unglued.copies.size(), kNone);
+  std::vector<std::int32_t> vertex_index(unglued.vertex_source.size(), -1);
   TetMesh& mesh = result.mesh;
-  mesh.vertices.reserve(unglued.vertex_source.size());
-  for (std::int32_t v : unglued.vertex_source) mesh.vertices.push_back(background.vertices[static_cast<std::size_t>(v)]);
-  mesh.tets.reserve(unglued.copies.size());
-  mesh.reference.reserve(unglued.copies.size());
-  result.background_tet.reserve(unglued.copies.size());
   result.stats.copies_per_cell.assign(cc.cell_count(), 0);
   for (std::size_t c = 0; c < unglued.copies.size(); ++c) {
-    const auto& copy = unglued.copies[c];
-    mesh.tets.push_back({copy[0], copy[1], copy[2], copy[3]});
+    if (helper_node[unglued.copy_node[c].index()]) {
+      ++result.stats.helper_tets;
+      continue;
+    }
+    copy_index[c] = static_cast<std::uint32_t>(mesh.tets.size());
+    Tet tet{};
+    for (int k = 0; k < 4; ++k) {
+      std::int32_t& v = vertex_index[static_cast<std::size_t>(unglued.copies[c][k])];
+      if (v < 0) {
+        v = static_cast<std::int32_t>(mesh.vertices.size());
+        mesh.vertices.push_back(background.vertices[static_cast<std::size_t>(unglued.vertex_source[unglued.copies[c][k]])]);
+      }
+      tet[k] = v;
+    }
+    mesh.tets.push_back(tet);
     mesh.reference.push_back(unglued.copy_node[c].value());
     result.background_tet.push_back(static_cast<int>(unglued.copy_element[c]));
     ++result.stats.copies_per_cell[layout.cell(unglued.copy_node[c]).index()];
@@ -159,21 +205,25 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
       continue;
     }
     const std::uint32_t atom = atom_of(location.local_region, immersion.owner[location.patch]);
-    result.embedding[v] = {static_cast<int>(unglued.atom_copy[atom]), location.weights};
+    const std::uint32_t copy = copy_index[unglued.atom_copy[atom]];
+    IMM_ASSERT(copy != kNone, "an input vertex embedded in a helper box's solid");
+    result.embedding[v] = {static_cast<int>(copy), location.weights};
   }
 
   if (options.record_contents) {
-    result.contents.resize(unglued.copies.size());
+    result.contents.resize(mesh.tets.size());
     for (std::uint32_t a = 0; a < input.atoms.size(); ++a) {
       const UnglueAtom& atom = input.atoms[a];
+      const std::uint32_t copy = copy_index[unglued.atom_copy[a]];
+      if (copy == kNone) continue;
       const std::uint32_t lr = local.first[atom.element] + static_cast<std::uint32_t>(atom.local_region);
-      result.contents[unglued.atom_copy[a]].atoms.push_back({atom.node, local.region[lr], atom.local_region});
+      result.contents[copy].atoms.push_back({atom.node, local.region[lr], atom.local_region});
     }
     for (const auto& piece : local.embedded) {
       if (!piece.inner) continue;
       const NodeId owner = immersion.owner[complex.cut_triangle_patch[piece.cut_triangle]];
-      const std::uint32_t atom = atom_of(piece.local_region, owner);
-      result.contents[unglued.atom_copy[atom]].owned_cut_triangles.push_back(piece.cut_triangle);
+      const std::uint32_t copy = copy_index[unglued.atom_copy[atom_of(piece.local_region, owner)]];
+      if (copy != kNone) result.contents[copy].owned_cut_triangles.push_back(piece.cut_triangle);
     }
     for (CopyContent3& content : result.contents) {
       auto& s = content.owned_cut_triangles;

@@ -24,6 +24,8 @@ struct MeshOptions3 {
   std::optional<std::string> background_path;
   /// Fill MeshResult3::contents (what every output tet holds; for tests and diagnostics).
   bool record_contents = false;
+  /// Threads for the virtual tets (0 = all cores). The output is identical for every value.
+  unsigned threads = 0;
   LogCallback progress;
 };
 
@@ -43,7 +45,15 @@ struct MeshStats3 {
   std::size_t side_tests = 0;
   std::size_t output_tets = 0;
   std::size_t output_vertices = 0;
-  int attempts = 1;                 ///< generated grids tried (a non-generic contact shifts the grid)
+  /// Attempts at a generic contact: generated grids tried (each shifted), or, with a read
+  /// background, translations of the input tried.
+  int attempts = 1;
+  /// The translation of the input relative to a read background under which every contact is
+  /// generic ((0, 0, 0) unless a first attempt met a non-generic contact; then tiny, about
+  /// 2^-32 of the input's diagonal). The output mesh is exact for the translated input, and the
+  /// embedding reproduces the translated vertices.
+  Point3 input_shift{0, 0, 0};
+  std::size_t helper_tets = 0;      ///< tets of helper-box solids, dropped from the output
   std::vector<std::size_t> copies_per_cell;  ///< output tets per cell (by CellId)
   double seconds_background = 0.0;
   double seconds_virtual = 0.0;   ///< clipping, pieces, local regions
@@ -74,12 +84,18 @@ struct MeshResult3 {
   std::vector<CopyContent3> contents;      ///< per output tet, when record_contents is set
 };
 
-/// Meshes one immersion of the complex. `input_vertices` is the number of leading input vertices
-/// to embed (the user's, when helper boxes were appended; default: all).
+/// Meshes one immersion of the complex.
+/// Helper boxes (dim3/self_connecting.h) come after the user's input: `input_vertices` and
+/// `input_triangles` count the user's leading vertices and triangles (default: all). Only the
+/// user's vertices are embedded, and the tets of every immersion-graph component that owns only
+/// helper patches (the solid of a helper box) are dropped: the paper's "discard the cube's
+/// component" (§6.2, §8). The user's solid keeps its tets across the box faces, fused through
+/// the graph edges there.
 /// @pre `immersion` satisfies Rules 1–7 for `complex.complex`; options.resolution >= 1.
 /// Paper: §7, §7.1.
 MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion, const MeshOptions3& options,
-                            std::size_t input_vertices = static_cast<std::size_t>(-1));
+                            std::size_t input_vertices = static_cast<std::size_t>(-1),
+                            std::size_t input_triangles = static_cast<std::size_t>(-1));
 
 /// .emb text: number of input vertices, then `tet w0 w1 w2 w3` per vertex (max_digits10).
 std::string format_embedding3(const std::vector<EmbeddedVertex3>& embedding);

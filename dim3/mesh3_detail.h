@@ -73,15 +73,19 @@ struct LocalRegions3 {
   std::size_t point_locations = 0;  ///< exact point locations for flood components
 };
 
-/// Cuts every tet of `background` by the cut mesh of `complex`: exact Sutherland–Hodgman
+/// Cuts every tet of `background` by the cut mesh of `complex` translated by `shift` (zero, or
+/// the tiny translation that makes a read background meet the input generically; the embedding
+/// weights then reproduce the translated vertices): exact Sutherland–Hodgman
 /// clipping of the cut triangles, pieces, their sides, local regions, fusions, face adjacencies
-/// and input-vertex locations.
+/// and input-vertex locations, on `threads` threads (0 = all cores; the result does not depend on
+/// it: tets are processed in blocks and merged in tet order).
 /// A contact of the input with the background that is not generic (an input point on a tet
 /// face, an input edge meeting a tet edge, a tet vertex on the input) sets `non_generic` and
 /// adds a Touching defect (stage "mesh") naming the tet, the cut triangle and the point; a
 /// background that does not cover the input adds NotCovered defects. Either way the result is
 /// then incomplete and must not be used.
-LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, bool record_embedded,
-                                     ValidationReport& report, bool& non_generic);
+LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, const Point3& shift,
+                                     bool record_embedded, unsigned threads, ValidationReport& report,
+                                     bool& non_generic);
 
 }  // namespace imm::dim3::detail

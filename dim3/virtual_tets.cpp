@@ -36,6 +36,9 @@
 #include <CGAL/box_intersection_d.h>
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
+#include <thread>
 #include <bit>
 #include <map>
 #include <numeric>
@@ -100,9 +103,11 @@ struct PieceSides {
 
 class VirtualTets {
  public:
-  VirtualTets(const Complex3& complex, const TetMesh& background, bool record, ValidationReport& report,
-              bool& non_generic)
-      : c_(complex),
+  VirtualTets(const Complex3& complex, const TetMesh& background, const Point3& shift, bool record,
+              unsigned threads, ValidationReport& report, bool& non_generic)
+      : threads_(std::max(1u, threads)),
+        shift_(shift),
+        c_(complex),
         m_(*complex.exact),
         bg_(background),
         record_(record),
@@ -111,6 +116,14 @@ class VirtualTets {
 
   LocalRegions3 run() {
     non_generic_ = false;
+    input_points_ = &m_.points;
+    if (shift_ != Point3{0, 0, 0}) {
+      // The input translated by an explicit (tiny) vector: every decision below is exact for it.
+      const EK::Vector_3 v(shift_[0], shift_[1], shift_[2]);
+      shifted_points_.reserve(m_.points.size());
+      for (const Point& p : m_.points) shifted_points_.push_back(p + v);
+      input_points_ = &shifted_points_;
+    }
     points_.reserve(bg_.vertices.size());
     for (const Point3& p : bg_.vertices) points_.emplace_back(p[0], p[1], p[2]);
     for (std::uint32_t i = 0; i < m_.pieces.size(); ++i)
@@ -120,13 +133,26 @@ class VirtualTets {
     out_.first.reserve(bg_.tets.size() + 1);
     triangle_has_polygon_.assign(m_.triangles.size(), 0);
     face_region_.assign(4 * bg_.tets.size(), kNone);
-    std::size_t next = 0;
-    for (std::uint32_t t = 0; t < bg_.tets.size(); ++t) {
-      const std::size_t begin = next;
-      while (next < candidates_.size() && candidates_[next].first == t) ++next;
-      out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
-      process_tet(t, begin, next);
-      if (non_generic_) return std::move(out_);
+    // Candidate range of every tet.
+    std::vector<std::size_t> cand_first(bg_.tets.size() + 1, 0);
+    for (const auto& c : candidates_) ++cand_first[c.first + 1];
+    for (std::size_t t = 0; t < bg_.tets.size(); ++t) cand_first[t + 1] += cand_first[t];
+    // Tets are independent: blocks of them run on the threads, and are merged in tet order so
+    // that the result does not depend on the thread count.
+    constexpr std::size_t kBlock = 2048;
+    std::vector<TetOut> block(kBlock);
+    std::vector<std::vector<Polygon>> scratch(threads_);
+    for (std::size_t first = 0; first < bg_.tets.size(); first += kBlock) {
+      const std::size_t count = std::min(kBlock, bg_.tets.size() - first);
+      parallel_for(count, [&](std::size_t i, unsigned worker) {
+        const auto t = static_cast<std::uint32_t>(first + i);
+        block[i] = TetOut();
+        process_tet(t, cand_first[t], cand_first[t + 1], block[i], scratch[worker]);
+      });
+      for (std::size_t i = 0; i < count; ++i) {
+        merge(static_cast<std::uint32_t>(first + i), block[i]);
+        if (non_generic_) return std::move(out_);
+      }
     }
     out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
     connect_faces();
@@ -137,10 +163,38 @@ class VirtualTets {
   }
 
  private:
+  /// Runs body(i, worker) for i in [0, count) on threads_ threads (dynamic scheduling); the first
+  /// exception is rethrown on the calling thread.
+  template <class Body>
+  void parallel_for(std::size_t count, const Body& body) const {
+    const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(threads_, (count + 63) / 64));
+    if (workers <= 1) {
+      for (std::size_t i = 0; i < count; ++i) body(i, 0);
+      return;
+    }
+    std::atomic<std::size_t> next{0};
+    std::vector<std::exception_ptr> errors(workers);
+    std::vector<std::thread> pool;
+    for (unsigned w = 0; w < workers; ++w) {
+      pool.emplace_back([&, w] {
+        try {
+          for (std::size_t i; (i = next.fetch_add(16)) < count;)
+            for (std::size_t j = i; j < std::min(count, i + 16); ++j) body(j, w);
+        } catch (...) {
+          errors[w] = std::current_exception();
+          next = count;
+        }
+      });
+    }
+    for (std::thread& th : pool) th.join();
+    for (const std::exception_ptr& e : errors)
+      if (e) std::rethrow_exception(e);
+  }
+
   // ---- set-up --------------------------------------------------------------------------------
 
   [[nodiscard]] const Point& corner(std::uint32_t cut_triangle, int k) const {
-    return m_.points[m_.vertex_point[m_.triangles[cut_triangle][k]]];
+    return (*input_points_)[m_.vertex_point[m_.triangles[cut_triangle][k]]];
   }
 
   /// (tet, cut triangle) pairs whose boxes overlap, sorted. Triangle boxes come from the interval
@@ -167,7 +221,7 @@ class VirtualTets {
 
   /// Exact Sutherland–Hodgman clipping of cut triangle x to the closed tet. @return false when
   /// the contact is not generic (then a defect was reported).
-  bool clip(std::uint32_t tet, TetGeometry& g, std::uint32_t x, Polygon& poly) {
+  bool clip(std::uint32_t tet, TetGeometry& g, std::uint32_t x, Polygon& poly, std::optional<Defect>& defect) const {
     poly.triangle = x;
     poly.vertices.clear();
     poly.edge_origin.clear();
@@ -221,16 +275,19 @@ class VirtualTets {
           std::string what = v.corner >= 0 ? "a vertex of the input lies on face " + std::to_string(f)
                              : std::popcount(v.planes) == 1 ? "an input edge meets an edge of the tet"
                                                             : "a vertex of the tet lies on the input";
-          return non_generic(tet, x, v.point, what);
+          defect = non_generic(tet, x, v.point, what);
+          return false;
         }
       }
     }
-    if (poly.vertices.size() < 3) return non_generic(tet, x, poly.vertices.front().point, "the input touches the tet");
+    if (poly.vertices.size() < 3) {
+      defect = non_generic(tet, x, poly.vertices.front().point, "the input touches the tet");
+      return false;
+    }
     return true;
   }
 
-  bool non_generic(std::uint32_t tet, std::uint32_t x, const Point& where, const std::string& what) {
-    non_generic_ = true;
+  Defect non_generic(std::uint32_t tet, std::uint32_t x, const Point& where, const std::string& what) const {
     const Point3 p{CGAL::to_double(where.x()), CGAL::to_double(where.y()), CGAL::to_double(where.z())};
     Defect d;
     d.kind = DefectKind::Touching;
@@ -240,8 +297,7 @@ class VirtualTets {
                 "); move or perturb the background mesh";
     d.facets = {static_cast<long>(m_.triangle_source[x])};
     d.points = {{p[0], p[1], p[2]}};
-    report_.add(std::move(d));
-    return false;
+    return d;
   }
 
   // ---- one tet ------------------------------------------------------------------------------
@@ -252,32 +308,52 @@ class VirtualTets {
     return inner ? s.negative : s.positive;
   }
 
-  void process_tet(std::uint32_t t, std::size_t begin, std::size_t end) {
-    const std::uint32_t base = static_cast<std::uint32_t>(out_.region.size());
-    if (begin == end) {
-      add_local_region(t, RegionId());
-      return;
-    }
+  struct Trace {
+    std::uint32_t tet;
+    std::uint8_t face;
+    std::uint32_t triangle;
+    std::uint32_t outer, inner;
+  };
+
+  /// What one tet contributes, with local-region ids local to the tet (0 .. regions.size()-1).
+  struct TetOut {
+    std::vector<RegionId> regions;  ///< per local region (invalid: not known from a piece)
+    std::vector<LocalRegions3::Fusion> fusions;
+    std::vector<Trace> traces;
+    std::vector<LocalRegions3::Embedded> embedded;
+    std::vector<std::pair<std::uint32_t, LocalRegions3::VertexLocation>> vertices;  ///< (input point, location)
+    std::vector<std::uint32_t> triangles;  ///< cut triangles with a polygon in the tet
+    std::array<std::uint32_t, 4> face_lr{kNone, kNone, kNone, kNone};  ///< untraced faces
+    std::size_t polygons = 0, pieces = 0, side_tests = 0;
+    std::optional<Defect> defect;  ///< a non-generic contact
+  };
+
+  void process_tet(std::uint32_t t, std::size_t begin, std::size_t end, TetOut& o, std::vector<Polygon>& polys) const {
+    const auto set_region = [&](std::uint32_t lr, RegionId region) {
+      IMM_ASSERT(!o.regions[lr].is_valid() || o.regions[lr] == region, "a local region lies in two regions");
+      o.regions[lr] = region;
+    };
     TetGeometry g;
     for (int k = 0; k < 4; ++k) g.v[k] = points_[static_cast<std::size_t>(bg_.tets[t][k])];
-    polys_.clear();
+    polys.clear();
     Polygon poly;
     for (std::size_t c = begin; c < end; ++c) {
-      if (!clip(t, g, candidates_[c].second, poly)) return;
-      if (!poly.vertices.empty()) polys_.push_back(poly);
+      if (!clip(t, g, candidates_[c].second, poly, o.defect)) return;
+      if (!poly.vertices.empty()) polys.push_back(poly);
     }
-    if (polys_.empty()) {
-      add_local_region(t, RegionId());
+    if (polys.empty()) {
+      o.regions.emplace_back();
+      o.face_lr = {0, 0, 0, 0};
       return;
     }
-    out_.polygons += polys_.size();
-    const std::size_t n = polys_.size();
+    o.polygons = polys.size();
+    const std::size_t n = polys.size();
 
     // Pieces and sides: polygons meet only along parts of cut edges inside the tet.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // (geometric edge, polygon)
     for (std::uint32_t i = 0; i < n; ++i) {
-      const Polygon& p = polys_[i];
-      triangle_has_polygon_[p.triangle] = 1;
+      const Polygon& p = polys[i];
+      o.triangles.push_back(p.triangle);
       for (std::size_t e = 0; e < p.vertices.size(); ++e) {
         const int k = p.edge_origin[e];
         if (k >= 3) continue;
@@ -288,7 +364,7 @@ class VirtualTets {
     std::sort(edges.begin(), edges.end());
     UnionFind pieces(n), sides(2 * n);  // side 2i: outer, 2i + 1: inner
     std::unordered_map<std::uint32_t, std::uint32_t> local_of;  // cut triangle -> polygon
-    for (std::uint32_t i = 0; i < n; ++i) local_of.emplace(polys_[i].triangle, i);
+    for (std::uint32_t i = 0; i < n; ++i) local_of.emplace(polys[i].triangle, i);
     for (std::size_t a = 0; a < edges.size();) {
       std::size_t b = a;
       while (b < edges.size() && edges[b].first == edges[a].first) ++b;
@@ -335,14 +411,16 @@ class VirtualTets {
       if (class_root[r] == kNone) class_root[r] = piece_list[piece_of[s / 2]].class_count++;
       class_of[s] = class_root[r];
     }
-    out_.pieces += piece_list.size();
+    o.pieces = piece_list.size();
 
     // Local regions: class tuples over all pieces.
     const std::size_t k = piece_list.size();
     std::vector<std::vector<std::uint32_t>> inside(k, std::vector<std::uint32_t>(k, kNone));  // [i][j]: class of i holding j
     for (std::size_t i = 0; i < k; ++i)
       for (std::size_t j = 0; j < k; ++j)
-        if (i != j) inside[i][j] = class_of_point(interior_point(polys_[piece_list[j].polygons.front()], 0), piece_list[i], class_of);
+        if (i != j)
+          inside[i][j] = class_of_point(interior_point(polys[piece_list[j].polygons.front()], 0), piece_list[i],
+                                        class_of, polys, o.side_tests);
     std::map<std::vector<std::uint32_t>, std::uint32_t> lr_of_key;
     std::vector<std::vector<std::uint32_t>> lr_of_class(k);
     for (std::size_t i = 0; i < k; ++i) {
@@ -350,83 +428,116 @@ class VirtualTets {
       for (std::uint32_t cl = 0; cl < piece_list[i].class_count; ++cl) {
         std::vector<std::uint32_t> key(k);
         for (std::size_t j = 0; j < k; ++j) key[j] = j == i ? cl : inside[j][i];
-        const auto [it, inserted] = lr_of_key.emplace(std::move(key), static_cast<std::uint32_t>(out_.region.size()));
-        if (inserted) add_local_region(t, RegionId());
+        const auto [it, inserted] = lr_of_key.emplace(std::move(key), static_cast<std::uint32_t>(o.regions.size()));
+        if (inserted) o.regions.emplace_back();
         lr_of_class[i][cl] = it->second;
       }
     }
-    const auto lr_of_side = [&](std::uint32_t poly, bool inner) {
-      return lr_of_class[piece_of[poly]][class_of[2 * poly + (inner ? 1 : 0)]];
+    const auto lr_of_side = [&](std::uint32_t p, bool inner) {
+      return lr_of_class[piece_of[p]][class_of[2 * p + (inner ? 1 : 0)]];
     };
-    if (out_.region.size() - base > 1) ++out_.cut_tets;
 
     // Regions, fusions, traces, embedded pieces, input vertices.
     for (std::uint32_t i = 0; i < n; ++i) {
-      const Polygon& p = polys_[i];
+      const Polygon& p = polys[i];
       const std::uint32_t outer = lr_of_side(i, false), inner = lr_of_side(i, true);
       set_region(outer, side_region(p.triangle, false));
       set_region(inner, side_region(p.triangle, true));
-      if (inner != outer) fusions_.push_back({inner, outer, patch(p.triangle)});
+      if (inner != outer) o.fusions.push_back({inner, outer, patch(p.triangle)});
       if (record_) {
-        out_.embedded.push_back({inner, p.triangle, true});
-        out_.embedded.push_back({outer, p.triangle, false});
+        o.embedded.push_back({inner, p.triangle, true});
+        o.embedded.push_back({outer, p.triangle, false});
       }
       for (std::size_t e = 0; e < p.vertices.size(); ++e) {
-        if (p.edge_origin[e] >= 3) traces_.push_back({t, static_cast<std::uint8_t>(p.edge_origin[e] - 3), p.triangle, outer, inner});
+        if (p.edge_origin[e] >= 3)
+          o.traces.push_back({t, static_cast<std::uint8_t>(p.edge_origin[e] - 3), p.triangle, outer, inner});
         const ClipVertex& v = p.vertices[e];
         if (v.corner < 0) continue;
         const std::uint32_t point = m_.vertex_point[static_cast<std::size_t>(v.corner)];
-        if (point >= out_.vertices.size() || out_.vertices[point].local_region != kNone) continue;
-        out_.vertices[point] = {inner, patch(p.triangle), barycentric(g, v.point)};
+        if (point >= c_.surface.vertex_count()) continue;
+        o.vertices.push_back({point, {inner, patch(p.triangle), {}}});  // weights: on merge, once
       }
     }
-    std::sort(fusions_.begin(), fusions_.end(), [](const auto& a, const auto& b) {
+    std::sort(o.fusions.begin(), o.fusions.end(), [](const auto& a, const auto& b) {
       return std::tie(a.inner, a.outer, a.patch) < std::tie(b.inner, b.outer, b.patch);
     });
-    fusions_.erase(std::unique(fusions_.begin(), fusions_.end(),
-                               [](const auto& a, const auto& b) {
-                                 return a.inner == b.inner && a.outer == b.outer && a.patch == b.patch;
-                               }),
-                   fusions_.end());
-    out_.fusions.insert(out_.fusions.end(), fusions_.begin(), fusions_.end());
-    fusions_.clear();
+    o.fusions.erase(std::unique(o.fusions.begin(), o.fusions.end(),
+                                [](const auto& a, const auto& b) {
+                                  return a.inner == b.inner && a.outer == b.outer && a.patch == b.patch;
+                                }),
+                    o.fusions.end());
 
     // Faces without traces lie in one local region: the one holding the face's centroid.
     std::uint8_t traced = 0;
-    for (const Polygon& p : polys_)
-      for (std::uint8_t o : p.edge_origin)
-        if (o >= 3) traced |= static_cast<std::uint8_t>(1u << (o - 3));
+    for (const Polygon& p : polys)
+      for (std::uint8_t e : p.edge_origin)
+        if (e >= 3) traced |= static_cast<std::uint8_t>(1u << (e - 3));
     for (int f = 0; f < 4; ++f) {
       if ((traced >> f) & 1u) continue;
       const Point y = CGAL::centroid(g.v[kFace[f][0]], g.v[kFace[f][1]], g.v[kFace[f][2]]);
       std::vector<std::uint32_t> key(k);
-      for (std::size_t j = 0; j < k; ++j) key[j] = class_of_point(y, piece_list[j], class_of);
+      for (std::size_t j = 0; j < k; ++j) key[j] = class_of_point(y, piece_list[j], class_of, polys, o.side_tests);
       const auto it = lr_of_key.find(key);
       IMM_ASSERT(it != lr_of_key.end(), "a face point in no local region");
-      face_region_[4 * t + static_cast<std::size_t>(f)] = it->second;
+      o.face_lr[static_cast<std::size_t>(f)] = it->second;
     }
   }
 
-  [[nodiscard]] std::array<double, 4> barycentric(const TetGeometry& g, const Point& p) const {
-    const FT whole = CGAL::determinant(g.v[1] - g.v[0], g.v[2] - g.v[0], g.v[3] - g.v[0]);
+  /// Appends tet t's local regions and everything that refers to them (in tet order).
+  void merge(std::uint32_t t, TetOut& o) {
+    if (o.defect) {
+      non_generic_ = true;
+      report_.add(std::move(*o.defect));
+      return;
+    }
+    const auto base = static_cast<std::uint32_t>(out_.region.size());
+    out_.first.push_back(base);
+    for (RegionId r : o.regions) {
+      out_.region.push_back(r);
+      out_.tet.push_back(t);
+    }
+    if (o.regions.size() > 1) ++out_.cut_tets;
+    out_.polygons += o.polygons;
+    out_.pieces += o.pieces;
+    out_.side_tests += o.side_tests;
+    for (auto f : o.fusions) out_.fusions.push_back({base + f.inner, base + f.outer, f.patch});
+    for (auto tr : o.traces) traces_.push_back({tr.tet, tr.face, tr.triangle, base + tr.outer, base + tr.inner});
+    for (auto e : o.embedded) out_.embedded.push_back({base + e.local_region, e.cut_triangle, e.inner});
+    for (auto& [point, location] : o.vertices) {
+      if (out_.vertices[point].local_region != kNone) continue;  // the first tet (in order) wins
+      location.local_region += base;
+      const Point3& q = c_.surface.vertices[point];
+      location.weights = barycentric(t, {q[0] + shift_[0], q[1] + shift_[1], q[2] + shift_[2]});
+      out_.vertices[point] = location;
+    }
+    for (std::uint32_t x : o.triangles) triangle_has_polygon_[x] = 1;
+    for (std::size_t f = 0; f < 4; ++f)
+      if (o.face_lr[f] != kNone) face_region_[4 * t + f] = base + o.face_lr[f];
+  }
+
+  /// Barycentric coordinates of input vertex p in tet t, for the .emb output only (never for a
+  /// decision): ratios of determinants in long double.
+  [[nodiscard]] std::array<double, 4> barycentric(std::uint32_t t, const Point3& p) const {
+    std::array<std::array<long double, 3>, 4> v{};
+    for (int k = 0; k < 4; ++k)
+      for (int d = 0; d < 3; ++d) v[k][d] = bg_.vertices[static_cast<std::size_t>(bg_.tets[t][k])][d];
+    const auto det = [](const std::array<std::array<long double, 3>, 4>& q) {
+      long double a[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int d = 0; d < 3; ++d) a[r][d] = q[r + 1][d] - q[0][d];
+      return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+    };
+    const long double whole = det(v);
     std::array<double, 4> w{};
     for (int k = 0; k < 4; ++k) {
-      std::array<Point, 4> q = g.v;
-      q[k] = p;
-      w[k] = CGAL::to_double(CGAL::exact(CGAL::determinant(q[1] - q[0], q[2] - q[0], q[3] - q[0]) / whole));
+      auto q = v;
+      for (int d = 0; d < 3; ++d) q[k][d] = p[d];
+      w[k] = static_cast<double>(det(q) / whole);
     }
     return w;
   }
 
-  void add_local_region(std::uint32_t t, RegionId region) {
-    out_.region.push_back(region);
-    out_.tet.push_back(t);
-  }
-
-  void set_region(std::uint32_t lr, RegionId region) {
-    IMM_ASSERT(!out_.region[lr].is_valid() || out_.region[lr] == region, "a local region lies in two regions");
-    out_.region[lr] = region;
-  }
 
   // ---- which side of a piece -----------------------------------------------------------------
 
@@ -499,20 +610,21 @@ class VirtualTets {
   }
 
   /// The side class of `piece` whose local region holds point x (x off the piece).
-  std::uint32_t class_of_point(const Point& x, const PieceSides& piece, const std::vector<std::uint32_t>& class_of) {
-    ++out_.side_tests;
+  std::uint32_t class_of_point(const Point& x, const PieceSides& piece, const std::vector<std::uint32_t>& class_of,
+                               const std::vector<Polygon>& polys, std::size_t& tests) const {
+    ++tests;
     if (piece.class_count == 1) return 0;
     std::vector<std::uint32_t> triangles;
     triangles.reserve(piece.polygons.size());
-    for (std::uint32_t i : piece.polygons) triangles.push_back(polys_[i].triangle);
+    for (std::uint32_t i : piece.polygons) triangles.push_back(polys[i].triangle);
     for (unsigned variant = 0; variant < 64; ++variant) {
       for (std::uint32_t i : piece.polygons) {
-        const Point m = interior_point(polys_[i], variant);
-        const auto hit = first_crossing(x, m, m_.triangle_source[polys_[i].triangle], triangles);
+        const Point m = interior_point(polys[i], variant);
+        const auto hit = first_crossing(x, m, m_.triangle_source[polys[i].triangle], triangles);
         if (!hit) continue;
         std::uint32_t poly = kNone;
         for (std::uint32_t j : piece.polygons)
-          if (polys_[j].triangle == hit->first) poly = j;
+          if (polys[j].triangle == hit->first) poly = j;
         return class_of[2 * poly + (hit->second ? 1 : 0)];
       }
     }
@@ -521,13 +633,6 @@ class VirtualTets {
   }
 
   // ---- faces ----------------------------------------------------------------------------------
-
-  struct Trace {
-    std::uint32_t tet;
-    std::uint8_t face;
-    std::uint32_t triangle;
-    std::uint32_t outer, inner;
-  };
 
   void connect_faces() {
     // Faces keyed by their sorted vertex ids.
@@ -704,6 +809,8 @@ class VirtualTets {
     }
   }
 
+  const unsigned threads_;
+  const Point3 shift_;
   const Complex3& c_;
   const CutMesh& m_;
   const TetMesh& bg_;
@@ -711,11 +818,11 @@ class VirtualTets {
   ValidationReport& report_;
   bool& non_generic_;
 
-  std::vector<Point> points_;
+  std::vector<Point> points_;                 ///< background vertices
+  const std::vector<Point>* input_points_ = nullptr;  ///< cut-mesh points (shifted when asked)
+  std::vector<Point> shifted_points_;
   std::unordered_map<std::uint64_t, std::uint32_t> arc_edge_;  ///< geometric cut edge -> CutPiece
   std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
-  std::vector<Polygon> polys_;
-  std::vector<LocalRegions3::Fusion> fusions_;
   std::vector<Trace> traces_;
   std::vector<std::uint32_t> face_region_;  ///< per (tet, face) without traces in a cut tet
   std::vector<char> triangle_has_polygon_;
@@ -726,10 +833,12 @@ class VirtualTets {
 
 }  // namespace
 
-LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, bool record_embedded,
-                                     ValidationReport& report, bool& non_generic) {
+LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, const Point3& shift,
+                                     bool record_embedded, unsigned threads, ValidationReport& report,
+                                     bool& non_generic) {
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
-  return VirtualTets(complex, background, record_embedded, report, non_generic).run();
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  return VirtualTets(complex, background, shift, record_embedded, threads, report, non_generic).run();
 }
 
 }  // namespace imm::dim3::detail

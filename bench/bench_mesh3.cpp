@@ -1,0 +1,353 @@
+// 3D meshing of an immersion (paper §7 with d = 3, dim3/mesh3.h) and a double-precision baseline.
+//
+//  BM_Mesh3_QuintupleTorusVeg     ../shared/data/real/3d/quintupleTorus.obj (Fig. 22) meshed on
+//                                 ../shared/data/real/tet/quintupleTorus.veg: one whole
+//                                 mesh_immersion3 per iteration (reading the .veg included).
+//                                 Counters: background and output tets, polygons, the stage times
+//                                 and virtual_tets_per_s = background tets / seconds_virtual.
+//                                 Skipped when ../shared is absent.
+//  BM_Mesh3_ClipDoubles/threads   "the practical ceiling" of the clipping stage: the same cut
+//                                 triangles (Complex3::cut_vertices / cut_triangles, in doubles)
+//                                 clipped to the same background tets by a plain double-precision
+//                                 Sutherland–Hodgman against the four face planes (no exactness,
+//                                 no symbolic vertices, no genericity check, no pieces). The
+//                                 (tet, cut triangle) candidate pairs come from
+//                                 CGAL::box_intersection_d outside the timed loop. tets_per_s on
+//                                 the same tets, so exact / double is read off one run:
+//                                 virtual_tets_per_s (above) / tets_per_s (here). The exact stage
+//                                 also finds its candidates, and computes pieces, sides and local
+//                                 regions: the ratio bounds what any exact scheme can gain.
+//  BM_Mesh3_Resolution/N          tube_overlap(16) (Fig. 1/5 in 3D, 3,296 triangles) on a
+//                                 generated grid of N cubes along the longest side: scaling with
+//                                 the background. SetComplexityN = background tets.
+//  BM_Mesh3_SurfaceSize/sides     helix(4, sides) (5 sides^2 * 4 + 14 sides triangles, the same
+//                                 shape and box for every size) on a fixed 32-cube grid: scaling
+//                                 with the surface. SetComplexityN = triangles.
+// Inputs (surface, complex with volumes in doubles, first immersion) are built outside the timed
+// loop. Every family uses real (wall) time, since the exact stage may run on several threads.
+#include <benchmark/benchmark.h>
+
+#include <CGAL/box_intersection_d.h>
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "dim3/generators3.h"
+#include "dim3/mesh3.h"
+#include "dim3/self_connecting.h"
+#include "dim3/tet_mesh.h"
+
+namespace imm::bench {
+namespace {
+
+/// A surface, its complex and its first immersion.
+struct Mesh3Input {
+  dim3::Immersed3 immersed;
+  [[nodiscard]] const dim3::Complex3& complex() const { return *immersed.build.complex; }
+  [[nodiscard]] const Immersion& immersion() const { return immersed.search.immersions.front(); }
+};
+
+/// @return nullopt (and `error` set) when the surface is invalid or has no immersion.
+std::optional<Mesh3Input> prepare(const dim3::Surface& surface, std::string& error) {
+  dim3::ImmerseOptions3 options;
+  options.build.exact_volumes = false;  // the search and the meshing do not read them
+  Mesh3Input input{dim3::immerse_surface(surface, options)};
+  if (!input.immersed.build.complex || !input.immersed.build.report.ok()) {
+    error = "input is not valid: " + input.immersed.build.report.summary();
+    return std::nullopt;
+  }
+  if (input.immersed.search.immersions.empty()) {
+    error = "input has no immersion";
+    return std::nullopt;
+  }
+  return input;
+}
+
+std::string shared_path(const std::string& relative) { return std::string(IMM_SHARED_DATA_DIR) + "/" + relative; }
+
+const std::string kQuintupleObj = "3d/quintupleTorus.obj";
+const std::string kQuintupleVeg = "tet/quintupleTorus.veg";
+
+/// The quintuple torus, built once and shared by the exact and the double families.
+const std::optional<Mesh3Input>& quintuple_input(std::string& error) {
+  static std::string first_error;
+  static const std::optional<Mesh3Input> input = []() -> std::optional<Mesh3Input> {
+    const std::string obj = shared_path(kQuintupleObj);
+    if (!std::filesystem::exists(obj) || !std::filesystem::exists(shared_path(kQuintupleVeg))) {
+      first_error = "../shared/data/real/" + kQuintupleObj + " or " + kQuintupleVeg + " absent";
+      return std::nullopt;
+    }
+    dim3::SurfaceReadResult read = dim3::read_surface(obj);
+    if (!read.report.ok()) {
+      first_error = "unreadable " + obj + ": " + read.report.summary();
+      return std::nullopt;
+    }
+    return prepare(read.surface, first_error);
+  }();
+  error = first_error;
+  return input;
+}
+
+/// One mesh_immersion3 call per iteration; the counters of the last one.
+void run_mesh(benchmark::State& state, const Mesh3Input& input, const dim3::MeshOptions3& options) {
+  dim3::MeshStats3 stats;
+  for (auto _ : state) {
+    dim3::MeshResult3 r = dim3::mesh_immersion3(input.complex(), input.immersion(), options, input.immersed.input_vertices);
+    if (!r.report.ok()) {
+      state.SkipWithError(("meshing failed: " + r.report.summary()).c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(r.mesh.tets.data());
+    stats = std::move(r.stats);
+  }
+  state.counters["triangles"] = static_cast<double>(input.immersed.surface.triangle_count());
+  state.counters["cut_triangles"] = static_cast<double>(input.complex().cut_triangles.size());
+  state.counters["background_tets"] = static_cast<double>(stats.background_tets);
+  state.counters["candidate_pairs"] = static_cast<double>(stats.candidate_pairs);
+  state.counters["polygons"] = static_cast<double>(stats.polygons);
+  state.counters["cut_tets"] = static_cast<double>(stats.cut_tets);
+  state.counters["output_tets"] = static_cast<double>(stats.output_tets);
+  state.counters["attempts"] = static_cast<double>(stats.attempts);
+  state.counters["s_background"] = stats.seconds_background;
+  state.counters["s_virtual"] = stats.seconds_virtual;
+  state.counters["s_assembly"] = stats.seconds_assembly;
+  if (stats.seconds_virtual > 0.0)
+    state.counters["virtual_tets_per_s"] = static_cast<double>(stats.background_tets) / stats.seconds_virtual;
+}
+
+// ---- the quintuple torus on its .veg -----------------------------------------------------------
+
+void BM_Mesh3_QuintupleTorusVeg(benchmark::State& state) {
+  std::string error;
+  const std::optional<Mesh3Input>& input = quintuple_input(error);
+  if (!input) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  dim3::MeshOptions3 options;
+  options.background_path = shared_path(kQuintupleVeg);
+  run_mesh(state, *input, options);
+}
+BENCHMARK(BM_Mesh3_QuintupleTorusVeg)->Iterations(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// ---- the double-precision baseline -------------------------------------------------------------
+
+using P3 = std::array<double, 3>;
+
+P3 minus(const P3& a, const P3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const P3& a, const P3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+P3 cross(const P3& a, const P3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+/// Face f is opposite vertex f, oriented so that vertex f lies on its positive side (as in
+/// dim3/virtual_tets.cpp).
+constexpr int kFace[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
+
+/// A convex polygon with at most 3 + 4 vertices (a triangle clipped by four planes).
+struct SmallPolygon {
+  std::array<P3, 8> v;
+  int n = 0;
+};
+
+/// Plain Sutherland–Hodgman in doubles: `poly` clipped to n . p >= d for the four face planes.
+void clip_doubles(const std::array<P3, 4>& normal, const std::array<double, 4>& offset, SmallPolygon& poly) {
+  SmallPolygon next;
+  std::array<double, 8> s{};
+  for (int f = 0; f < 4 && poly.n > 0; ++f) {
+    bool any_out = false;
+    for (int i = 0; i < poly.n; ++i) {
+      s[i] = dot(normal[f], poly.v[i]) - offset[f];
+      any_out = any_out || s[i] < 0.0;
+    }
+    if (!any_out) continue;
+    next.n = 0;
+    for (int i = 0; i < poly.n; ++i) {
+      const int j = i + 1 == poly.n ? 0 : i + 1;
+      if (s[i] >= 0.0) next.v[next.n++] = poly.v[i];
+      if ((s[i] < 0.0) != (s[j] < 0.0)) {
+        const double t = s[i] / (s[i] - s[j]);
+        const P3& p = poly.v[i];
+        const P3& q = poly.v[j];
+        next.v[next.n++] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
+      }
+    }
+    poly = next;
+  }
+}
+
+struct ClipResult {
+  std::size_t polygons = 0;
+  double checksum = 0.0;  ///< sum of the polygons' vertex coordinates (keeps the work alive)
+};
+
+/// Clips every candidate of tets [first, last) (`cand_first` indexes `pairs` by tet).
+ClipResult clip_tets(const dim3::TetMesh& bg, const std::vector<P3>& cut_vertices,
+                     const std::vector<dim3::Triangle>& cut_triangles, const std::vector<std::uint32_t>& pair_triangle,
+                     const std::vector<std::size_t>& cand_first, std::size_t first, std::size_t last) {
+  ClipResult out;
+  SmallPolygon poly;
+  for (std::size_t t = first; t < last; ++t) {
+    if (cand_first[t] == cand_first[t + 1]) continue;
+    std::array<P3, 4> v;
+    for (int k = 0; k < 4; ++k) v[k] = bg.vertices[static_cast<std::size_t>(bg.tets[t][k])];
+    std::array<P3, 4> normal;
+    std::array<double, 4> offset{};
+    for (int f = 0; f < 4; ++f) {
+      const P3& a = v[kFace[f][0]];
+      normal[f] = cross(minus(v[kFace[f][1]], a), minus(v[kFace[f][2]], a));
+      offset[f] = dot(normal[f], a);
+    }
+    for (std::size_t c = cand_first[t]; c < cand_first[t + 1]; ++c) {
+      const dim3::Triangle& tri = cut_triangles[pair_triangle[c]];
+      poly.n = 3;
+      for (int k = 0; k < 3; ++k) poly.v[k] = cut_vertices[tri[k]];
+      clip_doubles(normal, offset, poly);
+      if (poly.n >= 3) {
+        ++out.polygons;
+        for (int i = 0; i < poly.n; ++i) out.checksum += poly.v[i][0] + poly.v[i][1] + poly.v[i][2];
+      }
+    }
+  }
+  return out;
+}
+
+void BM_Mesh3_ClipDoubles(benchmark::State& state) {
+  std::string error;
+  const std::optional<Mesh3Input>& input = quintuple_input(error);
+  if (!input) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  static const dim3::TetReadResult read = dim3::read_tet_mesh(shared_path(kQuintupleVeg));
+  if (!read.report.ok()) {
+    state.SkipWithError(("unreadable background: " + read.report.summary()).c_str());
+    return;
+  }
+  const dim3::TetMesh& bg = read.mesh;
+  const dim3::Complex3& c3 = input->complex();
+
+  // Candidate (tet, cut triangle) pairs, sorted by tet, outside the timed loop.
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+  std::vector<Box> tet_boxes, triangle_boxes;
+  tet_boxes.reserve(bg.tets.size());
+  for (std::uint32_t t = 0; t < bg.tets.size(); ++t) {
+    CGAL::Bbox_3 b;
+    for (int k = 0; k < 4; ++k) {
+      const P3& p = bg.vertices[static_cast<std::size_t>(bg.tets[t][k])];
+      b += CGAL::Bbox_3(p[0], p[1], p[2], p[0], p[1], p[2]);
+    }
+    tet_boxes.emplace_back(b, t);
+  }
+  triangle_boxes.reserve(c3.cut_triangles.size());
+  for (std::uint32_t x = 0; x < c3.cut_triangles.size(); ++x) {
+    CGAL::Bbox_3 b;
+    for (std::uint32_t v : c3.cut_triangles[x]) {
+      const P3& p = c3.cut_vertices[v];
+      b += CGAL::Bbox_3(p[0], p[1], p[2], p[0], p[1], p[2]);
+    }
+    triangle_boxes.emplace_back(b, x);
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  CGAL::box_intersection_d(tet_boxes.begin(), tet_boxes.end(), triangle_boxes.begin(), triangle_boxes.end(),
+                           [&](const Box& a, const Box& b) { pairs.emplace_back(a.info(), b.info()); });
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<std::size_t> cand_first(bg.tets.size() + 1, 0);
+  std::vector<std::uint32_t> pair_triangle;
+  pair_triangle.reserve(pairs.size());
+  for (const auto& [t, x] : pairs) {
+    ++cand_first[t + 1];
+    pair_triangle.push_back(x);
+  }
+  for (std::size_t t = 0; t < bg.tets.size(); ++t) cand_first[t + 1] += cand_first[t];
+
+  const auto threads = static_cast<std::size_t>(state.range(0));
+  std::vector<ClipResult> part(threads);
+  ClipResult total;
+  for (auto _ : state) {
+    const auto run = [&](std::size_t k) {
+      part[k] = clip_tets(bg, c3.cut_vertices, c3.cut_triangles, pair_triangle, cand_first,
+                          bg.tets.size() * k / threads, bg.tets.size() * (k + 1) / threads);
+    };
+    std::vector<std::thread> workers;
+    for (std::size_t k = 1; k < threads; ++k) workers.emplace_back(run, k);
+    run(0);
+    for (std::thread& w : workers) w.join();
+    total = ClipResult();
+    for (const ClipResult& r : part) {
+      total.polygons += r.polygons;
+      total.checksum += r.checksum;
+    }
+    benchmark::DoNotOptimize(total.checksum);
+  }
+  state.counters["cut_triangles"] = static_cast<double>(c3.cut_triangles.size());
+  state.counters["background_tets"] = static_cast<double>(bg.tets.size());
+  state.counters["candidate_pairs"] = static_cast<double>(pairs.size());
+  state.counters["polygons"] = static_cast<double>(total.polygons);
+  state.counters["tets_per_s"] =
+      benchmark::Counter(static_cast<double>(bg.tets.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_Mesh3_ClipDoubles)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(3)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// ---- scaling -----------------------------------------------------------------------------------
+
+void BM_Mesh3_Resolution(benchmark::State& state) {
+  static std::string error;
+  static const std::optional<Mesh3Input> input = prepare(dim3::tube_overlap(16), error);
+  if (!input) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  dim3::MeshOptions3 options;
+  options.resolution = static_cast<int>(state.range(0));
+  run_mesh(state, *input, options);
+  state.SetComplexityN(static_cast<benchmark::IterationCount>(state.counters["background_tets"].value));
+}
+BENCHMARK(BM_Mesh3_Resolution)
+    ->RangeMultiplier(2)
+    ->Range(8, 64)
+    ->Iterations(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Complexity();
+
+void BM_Mesh3_SurfaceSize(benchmark::State& state) {
+  std::string error;
+  const dim3::SurfaceGenerateResult g = dim3::generate_surface("helix", {"4", std::to_string(state.range(0))});
+  if (!g.ok()) {
+    state.SkipWithError(g.error.c_str());
+    return;
+  }
+  const std::optional<Mesh3Input> input = prepare(g.surface, error);
+  if (!input) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  dim3::MeshOptions3 options;
+  options.resolution = 32;
+  run_mesh(state, *input, options);
+  state.SetComplexityN(static_cast<benchmark::IterationCount>(g.surface.triangle_count()));
+}
+BENCHMARK(BM_Mesh3_SurfaceSize)
+    ->ArgName("sides")
+    ->RangeMultiplier(2)
+    ->Range(8, 64)
+    ->Iterations(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Complexity();
+
+}  // namespace
+}  // namespace imm::bench
