@@ -480,6 +480,7 @@ Json mesh3_json(const dim3::MeshResult3& m, std::size_t k, const Immersion& imme
   c.set("pieces", m.stats.pieces);
   c.set("cut_tets", m.stats.cut_tets);
   c.set("side_tests", m.stats.side_tests);
+  c.set("exact_fallback_tets", m.stats.exact_tets);
   c.set("output_tets", m.stats.output_tets);
   c.set("output_vertices", m.stats.output_vertices);
   c.set("helper_tets_dropped", m.stats.helper_tets);

@@ -43,6 +43,7 @@ struct MeshStats3 {
   std::size_t pieces = 0;
   std::size_t cut_tets = 0;         ///< background tets with two or more local regions
   std::size_t side_tests = 0;
+  std::size_t exact_tets = 0;       ///< tets the interval fast path could not decide (redone exactly)
   std::size_t output_tets = 0;
   std::size_t output_vertices = 0;
   /// Attempts at a generic contact: generated grids tried (each shifted), or, with a read

@@ -69,7 +69,8 @@ struct LocalRegions3 {
   std::size_t polygons = 0;         ///< clipped polygons of positive area
   std::size_t cut_tets = 0;         ///< tets with two or more local regions
   std::size_t pieces = 0;           ///< connected components of the input inside tets
-  std::size_t side_tests = 0;       ///< exact "which side of a piece" tests
+  std::size_t side_tests = 0;       ///< "which side of a piece" tests
+  std::size_t exact_tets = 0;       ///< tets redone in exact arithmetic (intervals could not decide)
   std::size_t point_locations = 0;  ///< exact point locations for flood components
 };
 

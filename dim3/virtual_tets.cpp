@@ -35,7 +35,11 @@
 // any piece is located by one exact segment shooting against the whole cut mesh.
 #include <CGAL/box_intersection_d.h>
 
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Interval_nt.h>
+
 #include <algorithm>
+#include <type_traits>
 #include <atomic>
 #include <exception>
 #include <thread>
@@ -56,6 +60,9 @@ namespace {
 
 using Point = EK::Point_3;
 using FT = EK::FT;
+/// Interval arithmetic on doubles: the fast path. A sign it cannot certify throws
+/// CGAL::Uncertain_conversion_exception, and the tet is redone with EK.
+using IK = CGAL::Simple_cartesian<CGAL::Interval_nt<false>>;
 constexpr std::uint32_t kNone = LocalRegions3::kNone;
 
 /// Face f of a tet is opposite vertex f; with these vertex orders the tet's own vertex f lies on
@@ -67,33 +74,44 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
 }
 
 /// A vertex of a clipped polygon.
-struct ClipVertex {
-  Point point;
+template <class K>
+struct ClipVertexT {
+  typename K::Point_3 point;
   std::uint8_t planes = 0;  ///< bit f: constructed on face plane f
   std::int32_t corner = -1; ///< the cut-mesh (sheet) vertex when a corner of the triangle
 };
 
 /// A clipped polygon: vertex i and the origin of the edge from vertex i to vertex i + 1
 /// (0..2: part of triangle edge k, which joins corners k and k+1; 3 + f: trace on face f).
-struct Polygon {
+template <class K>
+struct PolygonT {
   std::uint32_t triangle = 0;  ///< cut triangle
-  std::vector<ClipVertex> vertices;
+  std::vector<ClipVertexT<K>> vertices;
   std::vector<std::uint8_t> edge_origin;
 };
 
-/// The exact geometry of one tet.
-struct TetGeometry {
-  std::array<Point, 4> v;
-  std::array<std::optional<EK::Plane_3>, 4> planes;  ///< built on first use
-  const EK::Plane_3& plane(int f) {
-    if (!planes[f]) planes[f].emplace(v[kFace[f][0]], v[kFace[f][1]], v[kFace[f][2]]);
-    return *planes[f];
-  }
-  /// Side of p w.r.t. face plane f: POSITIVE inside, ZERO on the plane.
-  [[nodiscard]] CGAL::Orientation side(int f, const Point& p) const {
+/// The geometry of one tet in kernel K.
+template <class K>
+struct TetGeometryT {
+  std::array<typename K::Point_3, 4> v;
+  /// Side of p w.r.t. face plane f: POSITIVE inside, ZERO on the plane (certain, or it throws).
+  [[nodiscard]] CGAL::Orientation side(int f, const typename K::Point_3& p) const {
     return CGAL::orientation(v[kFace[f][0]], v[kFace[f][1]], v[kFace[f][2]], p);
   }
+  /// det(b - a, c - a, p - a) for face f = (a, b, c): its sign is side(f, p).
+  [[nodiscard]] typename K::FT value(int f, const typename K::Point_3& p) const {
+    const auto& a = v[kFace[f][0]];
+    return CGAL::determinant(v[kFace[f][1]] - a, v[kFace[f][2]] - a, p - a);
+  }
 };
+
+template <class K>
+constexpr bool kInterval = std::is_same_v<K, IK>;
+
+using Polygon = PolygonT<EK>;
+
+/// Signals an uncertain interval decision (the tet is redone exactly).
+[[noreturn]] void uncertain() { throw CGAL::Uncertain_conversion_exception("uncertain sign in interval arithmetic"); }
 
 /// A piece's side classes and, per polygon, the class of each side.
 struct PieceSides {
@@ -126,6 +144,10 @@ class VirtualTets {
     }
     points_.reserve(bg_.vertices.size());
     for (const Point3& p : bg_.vertices) points_.emplace_back(p[0], p[1], p[2]);
+    background_intervals_.reserve(bg_.vertices.size());
+    for (const Point3& p : bg_.vertices) background_intervals_.emplace_back(p[0], p[1], p[2]);
+    input_intervals_.reserve(input_points_->size());
+    for (const Point& p : *input_points_) input_intervals_.push_back(CGAL::approx(p));
     for (std::uint32_t i = 0; i < m_.pieces.size(); ++i)
       arc_edge_.emplace(edge_key(m_.pieces[i].points[0], m_.pieces[i].points[1]), i);
     find_candidates();
@@ -141,13 +163,28 @@ class VirtualTets {
     // that the result does not depend on the thread count.
     constexpr std::size_t kBlock = 2048;
     std::vector<TetOut> block(kBlock);
+    std::vector<std::vector<PolygonT<IK>>> interval_scratch(threads_);
     std::vector<std::vector<Polygon>> scratch(threads_);
+    std::atomic<std::size_t> exact_tets{0};
     for (std::size_t first = 0; first < bg_.tets.size(); first += kBlock) {
       const std::size_t count = std::min(kBlock, bg_.tets.size() - first);
       parallel_for(count, [&](std::size_t i, unsigned worker) {
         const auto t = static_cast<std::uint32_t>(first + i);
         block[i] = TetOut();
-        process_tet(t, cand_first[t], cand_first[t + 1], block[i], scratch[worker]);
+        if (cand_first[t] == cand_first[t + 1]) {
+          block[i].regions.emplace_back();
+          block[i].face_lr = {0, 0, 0, 0};
+          return;
+        }
+        try {
+          const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
+          process_tet<IK>(t, cand_first[t], cand_first[t + 1], block[i], interval_scratch[worker]);
+          return;
+        } catch (const CGAL::Uncertain_conversion_exception&) {
+        }
+        block[i] = TetOut();
+        ++exact_tets;
+        process_tet<EK>(t, cand_first[t], cand_first[t + 1], block[i], scratch[worker]);
       });
       for (std::size_t i = 0; i < count; ++i) {
         merge(static_cast<std::uint32_t>(first + i), block[i]);
@@ -155,6 +192,7 @@ class VirtualTets {
       }
     }
     out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
+    out_.exact_tets = exact_tets;
     connect_faces();
     if (!report_.ok()) return std::move(out_);
     resolve_regions();
@@ -196,6 +234,22 @@ class VirtualTets {
   [[nodiscard]] const Point& corner(std::uint32_t cut_triangle, int k) const {
     return (*input_points_)[m_.vertex_point[m_.triangles[cut_triangle][k]]];
   }
+  template <class K>
+  [[nodiscard]] const typename K::Point_3& corner_in(std::uint32_t cut_triangle, int k) const {
+    if constexpr (kInterval<K>) {
+      return input_intervals_[m_.vertex_point[m_.triangles[cut_triangle][k]]];
+    } else {
+      return corner(cut_triangle, k);
+    }
+  }
+  template <class K>
+  [[nodiscard]] const typename K::Point_3& background_point(std::size_t v) const {
+    if constexpr (kInterval<K>) {
+      return background_intervals_[v];
+    } else {
+      return points_[v];
+    }
+  }
 
   /// (tet, cut triangle) pairs whose boxes overlap, sorted. Triangle boxes come from the interval
   /// approximations of the exact points (they contain the exact points): a conservative filter.
@@ -221,15 +275,18 @@ class VirtualTets {
 
   /// Exact Sutherland–Hodgman clipping of cut triangle x to the closed tet. @return false when
   /// the contact is not generic (then a defect was reported).
-  bool clip(std::uint32_t tet, TetGeometry& g, std::uint32_t x, Polygon& poly, std::optional<Defect>& defect) const {
+  template <class K>
+  bool clip(std::uint32_t tet, const TetGeometryT<K>& g, std::uint32_t x, PolygonT<K>& poly,
+            std::optional<Defect>& defect) const {
+    using P = typename K::Point_3;
     poly.triangle = x;
     poly.vertices.clear();
     poly.edge_origin.clear();
     for (int k = 0; k < 3; ++k) {
-      poly.vertices.push_back({corner(x, k), 0, static_cast<std::int32_t>(m_.triangles[x][k])});
+      poly.vertices.push_back({corner_in<K>(x, k), 0, static_cast<std::int32_t>(m_.triangles[x][k])});
       poly.edge_origin.push_back(static_cast<std::uint8_t>(k));
     }
-    std::vector<ClipVertex> next_vertices;
+    std::vector<ClipVertexT<K>> next_vertices;
     std::vector<std::uint8_t> next_origin;
     std::vector<CGAL::Orientation> side;
     for (int f = 0; f < 4 && !poly.vertices.empty(); ++f) {
@@ -243,21 +300,20 @@ class VirtualTets {
       if (!any_out) continue;
       next_vertices.clear();
       next_origin.clear();
-      const EK::Plane_3& plane = g.plane(f);
       for (std::size_t i = 0; i < n; ++i) {
         const std::size_t j = (i + 1) % n;
-        const ClipVertex& p = poly.vertices[i];
-        const ClipVertex& q = poly.vertices[j];
+        const ClipVertexT<K>& p = poly.vertices[i];
+        const ClipVertexT<K>& q = poly.vertices[j];
         if (side[i] != CGAL::NEGATIVE) {
           next_vertices.push_back(p);
           next_origin.push_back(side[i] == CGAL::ZERO && side[j] == CGAL::NEGATIVE ? static_cast<std::uint8_t>(3 + f)
                                                                                    : poly.edge_origin[i]);
         }
         if (side[i] != CGAL::ZERO && side[j] != CGAL::ZERO && side[i] != side[j]) {
-          const auto hit = CGAL::intersection(EK::Segment_3(p.point, q.point), plane);
-          IMM_ASSERT(hit && boost::get<Point>(&*hit), "a clipped edge crossing a plane has no crossing point");
-          ClipVertex v{*boost::get<Point>(&*hit),
-                       static_cast<std::uint8_t>((p.planes & q.planes) | (1u << f)), -1};
+          // The crossing of the edge with plane f: p + (q - p) sp / (sp - sq), exact in EK.
+          const typename K::FT sp = g.value(f, p.point), sq = g.value(f, q.point);
+          const P point = p.point + (q.point - p.point) * (sp / (sp - sq));
+          ClipVertexT<K> v{point, static_cast<std::uint8_t>((p.planes & q.planes) | (1u << f)), -1};
           next_vertices.push_back(std::move(v));
           next_origin.push_back(side[i] == CGAL::POSITIVE ? static_cast<std::uint8_t>(3 + f) : poly.edge_origin[i]);
         }
@@ -268,20 +324,28 @@ class VirtualTets {
     if (poly.vertices.empty()) return true;
     // Generic contact: every vertex lies strictly inside every face plane it was not built on,
     // and the polygon is not flattened to a point or a segment.
-    for (const ClipVertex& v : poly.vertices) {
+    for (const ClipVertexT<K>& v : poly.vertices) {
       for (int f = 0; f < 4; ++f) {
         if ((v.planes >> f) & 1u) continue;
         if (g.side(f, v.point) == CGAL::ZERO) {
-          std::string what = v.corner >= 0 ? "a vertex of the input lies on face " + std::to_string(f)
-                             : std::popcount(v.planes) == 1 ? "an input edge meets an edge of the tet"
-                                                            : "a vertex of the tet lies on the input";
-          defect = non_generic(tet, x, v.point, what);
-          return false;
+          if constexpr (kInterval<K>) {
+            uncertain();  // decided exactly
+          } else {
+            const std::string what = v.corner >= 0 ? "a vertex of the input lies on face " + std::to_string(f)
+                                     : std::popcount(v.planes) == 1 ? "an input edge meets an edge of the tet"
+                                                                    : "a vertex of the tet lies on the input";
+            defect = non_generic(tet, x, v.point, what);
+            return false;
+          }
         }
       }
     }
     if (poly.vertices.size() < 3) {
-      defect = non_generic(tet, x, poly.vertices.front().point, "the input touches the tet");
+      if constexpr (kInterval<K>) {
+        uncertain();
+      } else {
+        defect = non_generic(tet, x, poly.vertices.front().point, "the input touches the tet");
+      }
       return false;
     }
     return true;
@@ -328,15 +392,17 @@ class VirtualTets {
     std::optional<Defect> defect;  ///< a non-generic contact
   };
 
-  void process_tet(std::uint32_t t, std::size_t begin, std::size_t end, TetOut& o, std::vector<Polygon>& polys) const {
+  template <class K>
+  void process_tet(std::uint32_t t, std::size_t begin, std::size_t end, TetOut& o,
+                   std::vector<PolygonT<K>>& polys) const {
     const auto set_region = [&](std::uint32_t lr, RegionId region) {
       IMM_ASSERT(!o.regions[lr].is_valid() || o.regions[lr] == region, "a local region lies in two regions");
       o.regions[lr] = region;
     };
-    TetGeometry g;
-    for (int k = 0; k < 4; ++k) g.v[k] = points_[static_cast<std::size_t>(bg_.tets[t][k])];
+    TetGeometryT<K> g;
+    for (int k = 0; k < 4; ++k) g.v[k] = background_point<K>(static_cast<std::size_t>(bg_.tets[t][k]));
     polys.clear();
-    Polygon poly;
+    PolygonT<K> poly;
     for (std::size_t c = begin; c < end; ++c) {
       if (!clip(t, g, candidates_[c].second, poly, o.defect)) return;
       if (!poly.vertices.empty()) polys.push_back(poly);
@@ -352,7 +418,7 @@ class VirtualTets {
     // Pieces and sides: polygons meet only along parts of cut edges inside the tet.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // (geometric edge, polygon)
     for (std::uint32_t i = 0; i < n; ++i) {
-      const Polygon& p = polys[i];
+      const PolygonT<K>& p = polys[i];
       o.triangles.push_back(p.triangle);
       for (std::size_t e = 0; e < p.vertices.size(); ++e) {
         const int k = p.edge_origin[e];
@@ -419,8 +485,8 @@ class VirtualTets {
     for (std::size_t i = 0; i < k; ++i)
       for (std::size_t j = 0; j < k; ++j)
         if (i != j)
-          inside[i][j] = class_of_point(interior_point(polys[piece_list[j].polygons.front()], 0), piece_list[i],
-                                        class_of, polys, o.side_tests);
+          inside[i][j] = class_of_point<K>(interior_point<K>(polys[piece_list[j].polygons.front()], 0), piece_list[i],
+                                           class_of, polys, o.side_tests);
     std::map<std::vector<std::uint32_t>, std::uint32_t> lr_of_key;
     std::vector<std::vector<std::uint32_t>> lr_of_class(k);
     for (std::size_t i = 0; i < k; ++i) {
@@ -439,7 +505,7 @@ class VirtualTets {
 
     // Regions, fusions, traces, embedded pieces, input vertices.
     for (std::uint32_t i = 0; i < n; ++i) {
-      const Polygon& p = polys[i];
+      const PolygonT<K>& p = polys[i];
       const std::uint32_t outer = lr_of_side(i, false), inner = lr_of_side(i, true);
       set_region(outer, side_region(p.triangle, false));
       set_region(inner, side_region(p.triangle, true));
@@ -451,7 +517,7 @@ class VirtualTets {
       for (std::size_t e = 0; e < p.vertices.size(); ++e) {
         if (p.edge_origin[e] >= 3)
           o.traces.push_back({t, static_cast<std::uint8_t>(p.edge_origin[e] - 3), p.triangle, outer, inner});
-        const ClipVertex& v = p.vertices[e];
+        const ClipVertexT<K>& v = p.vertices[e];
         if (v.corner < 0) continue;
         const std::uint32_t point = m_.vertex_point[static_cast<std::size_t>(v.corner)];
         if (point >= c_.surface.vertex_count()) continue;
@@ -469,14 +535,14 @@ class VirtualTets {
 
     // Faces without traces lie in one local region: the one holding the face's centroid.
     std::uint8_t traced = 0;
-    for (const Polygon& p : polys)
+    for (const PolygonT<K>& p : polys)
       for (std::uint8_t e : p.edge_origin)
         if (e >= 3) traced |= static_cast<std::uint8_t>(1u << (e - 3));
     for (int f = 0; f < 4; ++f) {
       if ((traced >> f) & 1u) continue;
-      const Point y = CGAL::centroid(g.v[kFace[f][0]], g.v[kFace[f][1]], g.v[kFace[f][2]]);
+      const typename K::Point_3 y = CGAL::centroid(g.v[kFace[f][0]], g.v[kFace[f][1]], g.v[kFace[f][2]]);
       std::vector<std::uint32_t> key(k);
-      for (std::size_t j = 0; j < k; ++j) key[j] = class_of_point(y, piece_list[j], class_of, polys, o.side_tests);
+      for (std::size_t j = 0; j < k; ++j) key[j] = class_of_point<K>(y, piece_list[j], class_of, polys, o.side_tests);
       const auto it = lr_of_key.find(key);
       IMM_ASSERT(it != lr_of_key.end(), "a face point in no local region");
       o.face_lr[static_cast<std::size_t>(f)] = it->second;
@@ -543,17 +609,19 @@ class VirtualTets {
 
   /// A point strictly inside polygon p: a weighted mean of three of its vertices (variant v
   /// chooses the vertices and weights; every variant is inside, they differ for retries).
-  static Point interior_point(const Polygon& p, unsigned variant) {
+  template <class K>
+  static typename K::Point_3 interior_point(const PolygonT<K>& p, unsigned variant) {
+    using FT = typename K::FT;
     const std::size_t n = p.vertices.size();
     const std::size_t a = variant % n;
     const std::size_t b = (a + 1) % n, c = (a + 2) % n;
     static constexpr int kWeights[4][3] = {{1, 1, 1}, {3, 2, 2}, {2, 3, 2}, {2, 2, 3}};
     const auto& w = kWeights[(variant / n) % 4];
     const FT sum = w[0] + w[1] + w[2];
-    const Point& pa = p.vertices[a].point;
-    const Point& pb = p.vertices[b].point;
-    const Point& pc = p.vertices[c].point;
-    return Point((w[0] * pa.x() + w[1] * pb.x() + w[2] * pc.x()) / sum,
+    const auto& pa = p.vertices[a].point;
+    const auto& pb = p.vertices[b].point;
+    const auto& pc = p.vertices[c].point;
+    return typename K::Point_3((w[0] * pa.x() + w[1] * pb.x() + w[2] * pc.x()) / sum,
                  (w[0] * pa.y() + w[1] * pb.y() + w[2] * pc.y()) / sum,
                  (w[0] * pa.z() + w[1] * pb.z() + w[2] * pc.z()) / sum);
   }
@@ -564,17 +632,26 @@ class VirtualTets {
   /// `m_plane`: an input triangle whose plane holds m by construction (the sub-triangles of one
   /// input triangle are coplanar), so that the orientation of m against those is known without
   /// evaluating an exact zero; UINT32_MAX when none.
-  std::optional<std::pair<std::uint32_t, bool>> first_crossing(const Point& x, const Point& m, std::uint32_t m_plane,
+  template <class K>
+  std::optional<std::pair<std::uint32_t, bool>> first_crossing(const typename K::Point_3& x,
+                                                               const typename K::Point_3& m, std::uint32_t m_plane,
                                                                const std::vector<std::uint32_t>& triangles) const {
+    using FT = typename K::FT;
     std::optional<FT> best;
     std::pair<std::uint32_t, bool> hit{0, false};
     for (std::uint32_t tri : triangles) {
-      const Point &a = corner(tri, 0), &b = corner(tri, 1), &c = corner(tri, 2);
+      const auto& a = corner_in<K>(tri, 0);
+      const auto& b = corner_in<K>(tri, 1);
+      const auto& c = corner_in<K>(tri, 2);
       const CGAL::Orientation ox = CGAL::orientation(a, b, c, x);
       const bool m_on_plane = m_.triangle_source[tri] == m_plane;
-      const CGAL::Orientation om = m_on_plane ? CGAL::ZERO : CGAL::orientation(a, b, c, m);
+      const CGAL::Orientation om = m_on_plane ? CGAL::ZERO : CGAL::Orientation(CGAL::orientation(a, b, c, m));
       if (ox == CGAL::ZERO && om == CGAL::ZERO) {
-        if (CGAL::do_intersect(EK::Segment_3(x, m), EK::Triangle_3(a, b, c))) return std::nullopt;
+        if constexpr (kInterval<K>) {
+          uncertain();  // decided exactly
+        } else {
+          if (CGAL::do_intersect(EK::Segment_3(x, m), EK::Triangle_3(a, b, c))) return std::nullopt;
+        }
         continue;
       }
       if (ox == CGAL::ZERO || ox == om) continue;  // x is off the triangles; no crossing
@@ -602,6 +679,7 @@ class VirtualTets {
         best = lambda;
         hit = {tri, ox == CGAL::NEGATIVE};
       } else if (lambda == *best) {
+        if constexpr (kInterval<K>) uncertain();  // a tie is decided exactly
         return std::nullopt;
       }
     }
@@ -610,8 +688,10 @@ class VirtualTets {
   }
 
   /// The side class of `piece` whose local region holds point x (x off the piece).
-  std::uint32_t class_of_point(const Point& x, const PieceSides& piece, const std::vector<std::uint32_t>& class_of,
-                               const std::vector<Polygon>& polys, std::size_t& tests) const {
+  template <class K>
+  std::uint32_t class_of_point(const typename K::Point_3& x, const PieceSides& piece,
+                               const std::vector<std::uint32_t>& class_of, const std::vector<PolygonT<K>>& polys,
+                               std::size_t& tests) const {
     ++tests;
     if (piece.class_count == 1) return 0;
     std::vector<std::uint32_t> triangles;
@@ -619,9 +699,12 @@ class VirtualTets {
     for (std::uint32_t i : piece.polygons) triangles.push_back(polys[i].triangle);
     for (unsigned variant = 0; variant < 64; ++variant) {
       for (std::uint32_t i : piece.polygons) {
-        const Point m = interior_point(polys[i], variant);
-        const auto hit = first_crossing(x, m, m_.triangle_source[polys[i].triangle], triangles);
-        if (!hit) continue;
+        const typename K::Point_3 m = interior_point<K>(polys[i], variant);
+        const auto hit = first_crossing<K>(x, m, m_.triangle_source[polys[i].triangle], triangles);
+        if (!hit) {
+          if constexpr (kInterval<K>) uncertain();  // another segment is chosen exactly
+          continue;
+        }
         std::uint32_t poly = kNone;
         for (std::uint32_t j : piece.polygons)
           if (polys[j].triangle == hit->first) poly = j;
@@ -754,7 +837,7 @@ class VirtualTets {
       for (unsigned variant = 0; variant < 4; ++variant) {
         Polygon p;
         for (int k = 0; k < 3; ++k) p.vertices.push_back({corner(aim, k), 0, -1});
-        const auto hit = first_crossing(q, interior_point(p, 3 * variant), m_.triangle_source[aim], all);
+        const auto hit = first_crossing<EK>(q, interior_point<EK>(p, 3 * variant), m_.triangle_source[aim], all);
         if (hit) return side_region(hit->first, hit->second);
       }
     }
@@ -821,6 +904,8 @@ class VirtualTets {
   std::vector<Point> points_;                 ///< background vertices
   const std::vector<Point>* input_points_ = nullptr;  ///< cut-mesh points (shifted when asked)
   std::vector<Point> shifted_points_;
+  std::vector<IK::Point_3> background_intervals_;  ///< the same points, for the interval fast path
+  std::vector<IK::Point_3> input_intervals_;
   std::unordered_map<std::uint64_t, std::uint32_t> arc_edge_;  ///< geometric cut edge -> CutPiece
   std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
   std::vector<Trace> traces_;
