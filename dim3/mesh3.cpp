@@ -88,7 +88,7 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
     bool non_generic = false;
     ValidationReport report;
     local = detail::compute_local_regions3(complex, result.background, shift, options.record_contents,
-                                           options.threads, report, non_generic);
+                                           options.threads, options.interval_filter, report, non_generic);
     result.stats.seconds_virtual += seconds_since(start);
     result.stats.attempts = attempt + 1;
     result.stats.input_shift = shift;

@@ -26,6 +26,9 @@ struct MeshOptions3 {
   bool record_contents = false;
   /// Threads for the virtual tets (0 = all cores). The output is identical for every value.
   unsigned threads = 0;
+  /// Decide each tet in interval arithmetic first, exactly only where the intervals cannot
+  /// (default). False runs every tet with Epeck: slower, the output is identical (tests compare).
+  bool interval_filter = true;
   LogCallback progress;
 };
 

@@ -86,7 +86,7 @@ struct LocalRegions3 {
 /// background that does not cover the input adds NotCovered defects. Either way the result is
 /// then incomplete and must not be used.
 LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, const Point3& shift,
-                                     bool record_embedded, unsigned threads, ValidationReport& report,
-                                     bool& non_generic);
+                                     bool record_embedded, unsigned threads, bool interval_filter,
+                                     ValidationReport& report, bool& non_generic);
 
 }  // namespace imm::dim3::detail

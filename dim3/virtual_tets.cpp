@@ -122,8 +122,9 @@ struct PieceSides {
 class VirtualTets {
  public:
   VirtualTets(const Complex3& complex, const TetMesh& background, const Point3& shift, bool record,
-              unsigned threads, ValidationReport& report, bool& non_generic)
+              unsigned threads, bool interval_filter, ValidationReport& report, bool& non_generic)
       : threads_(std::max(1u, threads)),
+        interval_filter_(interval_filter),
         shift_(shift),
         c_(complex),
         m_(*complex.exact),
@@ -176,11 +177,13 @@ class VirtualTets {
           block[i].face_lr = {0, 0, 0, 0};
           return;
         }
-        try {
-          const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
-          process_tet<IK>(t, cand_first[t], cand_first[t + 1], block[i], interval_scratch[worker]);
-          return;
-        } catch (const CGAL::Uncertain_conversion_exception&) {
+        if (interval_filter_) {
+          try {
+            const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
+            process_tet<IK>(t, cand_first[t], cand_first[t + 1], block[i], interval_scratch[worker]);
+            return;
+          } catch (const CGAL::Uncertain_conversion_exception&) {
+          }
         }
         block[i] = TetOut();
         ++exact_tets;
@@ -893,6 +896,7 @@ class VirtualTets {
   }
 
   const unsigned threads_;
+  const bool interval_filter_;
   const Point3 shift_;
   const Complex3& c_;
   const CutMesh& m_;
@@ -919,11 +923,12 @@ class VirtualTets {
 }  // namespace
 
 LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, const Point3& shift,
-                                     bool record_embedded, unsigned threads, ValidationReport& report,
-                                     bool& non_generic) {
+                                     bool record_embedded, unsigned threads, bool interval_filter,
+                                     ValidationReport& report, bool& non_generic) {
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  return VirtualTets(complex, background, shift, record_embedded, threads, report, non_generic).run();
+  return VirtualTets(complex, background, shift, record_embedded, threads, interval_filter, report, non_generic)
+      .run();
 }
 
 }  // namespace imm::dim3::detail
