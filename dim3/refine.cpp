@@ -350,11 +350,27 @@ class Refiner {
     it->second = id;
     const InputEdge& e = m_->edges[edge];
     const Triangle& t = s_.triangles[tri];
-    const EK::Plane_3 plane(m_->points[t[0]], m_->points[t[1]], m_->points[t[2]]);
-    const auto hit = CGAL::intersection(EK::Line_3(m_->points[e.v0], m_->points[e.v1]), plane);
-    const EK::Point_3* p = hit ? boost::get<EK::Point_3>(&*hit) : nullptr;
-    IMM_ASSERT(p != nullptr, "edge-triangle crossing without an intersection point");
-    m_->points.push_back(*p);
+    // Computed once in exact rationals from the input doubles (not as a lazy construction): the
+    // point is then exact from the start, and the many predicates that later meet it exactly
+    // (points on triangle edges are collinear with the corners) cost no deferred evaluation.
+    // With d(x) = det(b - a, c - a, x - a): the crossing is p + (q - p) d(p) / (d(p) - d(q)).
+    const auto exact = [&](std::uint32_t v) {
+      const Point3& x = s_.vertices[v];
+      return std::array<Rational, 3>{Rational(x[0]), Rational(x[1]), Rational(x[2])};
+    };
+    const auto a = exact(t[0]), b = exact(t[1]), c = exact(t[2]), p = exact(e.v0), q = exact(e.v1);
+    const auto det = [&](const std::array<Rational, 3>& x) {
+      const Rational u0 = b[0] - a[0], u1 = b[1] - a[1], u2 = b[2] - a[2];
+      const Rational v0 = c[0] - a[0], v1 = c[1] - a[1], v2 = c[2] - a[2];
+      const Rational w0 = x[0] - a[0], w1 = x[1] - a[1], w2 = x[2] - a[2];
+      return Rational(u0 * (v1 * w2 - v2 * w1) - u1 * (v0 * w2 - v2 * w0) + u2 * (v0 * w1 - v1 * w0));
+    };
+    const Rational dp = det(p), dq = det(q);
+    IMM_ASSERT(dp != dq, "edge-triangle crossing without an intersection point");
+    const Rational lambda = dp / (dp - dq);
+    m_->points.emplace_back(EK::FT(Rational(p[0] + (q[0] - p[0]) * lambda)),
+                            EK::FT(Rational(p[1] + (q[1] - p[1]) * lambda)),
+                            EK::FT(Rational(p[2] + (q[2] - p[2]) * lambda)));
     m_->origins.push_back({PointOrigin::Kind::EdgeTriangle, {edge, tri, 0}});
     edge_points_[edge].push_back(id);
     return id;
@@ -638,6 +654,56 @@ class Refiner {
   /// Triangulates cut triangle t with its boundary points and its subdivided segments as
   /// constraints. Reads only shared immutable state (safe to run concurrently: CGAL 5.5's lazy
   /// exact numbers evaluate under std::call_once).
+  /// The common case without a triangulation: one intersection segment crossing the triangle
+  /// from one edge to another (two boundary points, no interior point). The chord cuts the
+  /// triangle into a triangle and a convex quadrilateral, split along a diagonal; every face
+  /// follows the boundary order, so it is oriented like the input triangle. Only the side of
+  /// the chord the positive corner lies on needs a predicate (exact, filtered).
+  /// @return nullopt when the triangle is not of that kind (the caller triangulates it).
+  std::optional<LocalCut> single_chord(std::uint32_t t, const std::vector<std::uint32_t>& ring,
+                                       const Projection& pr) const {
+    const std::uint32_t s = tri_segments_[t].front();
+    const Segment& seg = segments_[s];
+    const int sheet = seg.triangles[0] == t ? 0 : 1;
+    const auto& pts = seg_points_[s * 2 + sheet];
+    if (pts.size() != 2) return std::nullopt;
+    const auto at = [&](std::uint32_t id) {
+      return static_cast<std::size_t>(std::find(ring.begin(), ring.end(), id) - ring.begin());
+    };
+    const std::size_t ip = at(pts[0]), iq = at(pts[1]);
+    if (ip == ring.size() || iq == ring.size()) return std::nullopt;
+    LocalCut out;
+    // a: the ring from P forward to Q (closed by Q -> P); b: from Q forward to P (closed by P -> Q).
+    const auto fan = [&](std::size_t from, std::size_t to) {
+      std::vector<std::uint32_t> poly;
+      for (std::size_t i = from;; i = (i + 1) % ring.size()) {
+        poly.push_back(ring[i]);
+        if (i == to) break;
+      }
+      const auto first = static_cast<std::uint32_t>(out.faces.size());
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+        const auto face = static_cast<std::uint32_t>(out.faces.size());
+        out.faces.push_back({poly[0], poly[k], poly[k + 1]});
+        if (k > 1) out.inner.push_back({face - 1, face});
+      }
+      // Boundary edges (every polygon edge but the closing chord) with their faces.
+      for (std::size_t k = 0; k + 1 < poly.size(); ++k) {
+        const std::uint32_t face = k == 0 ? first : first + static_cast<std::uint32_t>(std::max<std::size_t>(k, 1) - 1);
+        out.boundary.push_back({poly[k], poly[k + 1], face});
+      }
+      return static_cast<std::uint32_t>(out.faces.size() - 1);  // the face holding the chord
+    };
+    const std::uint32_t right = fan(ip, iq);  // right of P -> Q
+    const std::uint32_t left = fan(iq, ip);   // left of P -> Q
+    const EK::Point_2 corner = project(m_->points[s_.triangles[t][seg.positive_corner[sheet]]], pr.drop);
+    const bool left_in_projection =
+        CGAL::orientation(project(m_->points[pts[0]], pr.drop), project(m_->points[pts[1]], pr.drop), corner) ==
+        CGAL::LEFT_TURN;
+    const bool left_is_positive = left_in_projection != pr.flipped;
+    out.pieces.push_back({s, pts[0], pts[1], left_is_positive ? left : right, left_is_positive ? right : left});
+    return out;
+  }
+
   LocalCut triangulate(std::uint32_t t) const {
     LocalCut out;
     const Projection pr = projection_of(t);
@@ -663,6 +729,9 @@ class Refiner {
       const auto& list = edge_points_[e];
       if (tri[k] == m_->edges[e].v0) ring.insert(ring.end(), list.begin(), list.end());
       else ring.insert(ring.end(), list.rbegin(), list.rend());
+    }
+    if (tri_segments_[t].size() == 1 && ring.size() == 5) {
+      if (auto fast = single_chord(t, ring, pr)) return std::move(*fast);
     }
     for (std::uint32_t id : ring) insert(id);
     for (std::uint32_t s : tri_segments_[t]) {
