@@ -112,4 +112,59 @@ UnglueResult<D> unglue(const UnglueInput<D>& input) {
 template UnglueResult<2> unglue<2>(const UnglueInput<2>&);
 template UnglueResult<3> unglue<3>(const UnglueInput<3>&);
 
+template <int D>
+AtomExpansion<D>::AtomExpansion(const CellComplex<D>& complex, const Immersion& immersion,
+                                const std::vector<std::uint32_t>& first, const std::vector<RegionId>& region,
+                                std::vector<std::array<std::int32_t, D + 1>> elements)
+    : complex_(complex), immersion_(immersion), region_(region), edges_across_(complex.patch_count()) {
+  input_.elements = std::move(elements);
+  IMM_ASSERT(first.size() == input_.elements.size() + 1 && first.back() == region.size(),
+             "local regions do not match the elements");
+  atom_first_.assign(region.size(), kNoAtom);
+  const NodeLayout& layout = immersion.layout;
+  for (std::uint32_t e = 0; e + 1 < first.size(); ++e) {
+    for (std::uint32_t lr = first[e]; lr < first[e + 1]; ++lr) {
+      const CellId cell = complex.cell_of(region[lr]);
+      if (!cell.is_valid()) continue;
+      atom_first_[lr] = static_cast<std::uint32_t>(input_.atoms.size());
+      const auto index_in_element = static_cast<std::int32_t>(lr - first[e]);
+      for (int k = 0; k < complex.winding_number(cell); ++k)
+        input_.atoms.push_back({e, layout.node(cell, k), index_in_element});
+    }
+  }
+  for (const ImmersionEdge& edge : immersion.edges) edges_across_[edge.patch].push_back(edge);
+}
+
+template <int D>
+std::uint32_t AtomExpansion<D>::atom(std::uint32_t lr, NodeId node) const {
+  const NodeLayout& layout = immersion_.layout;
+  IMM_ASSERT(atom_first_[lr] != kNoAtom && layout.cell(node) == complex_.cell_of(region_[lr]),
+             "graph node of another cell than the local region's");
+  return atom_first_[lr] + static_cast<std::uint32_t>(layout.copy(node));
+}
+
+template <int D>
+void AtomExpansion<D>::fuse(std::uint32_t inner, std::uint32_t outer, PatchId patch) {
+  for (const ImmersionEdge& e : edges_across_[patch]) input_.fusions.emplace_back(atom(inner, e.inner), atom(outer, e.outer));
+}
+
+template <int D>
+void AtomExpansion<D>::connect(std::uint32_t first, std::uint32_t second, const std::array<std::int32_t, D>& face) {
+  const CellId cell = complex_.cell_of(region_[first]);
+  if (!cell.is_valid()) return;
+  for (int k = 0; k < complex_.winding_number(cell); ++k)
+    input_.adjacencies.push_back({atom_first_[first] + static_cast<std::uint32_t>(k),
+                                  atom_first_[second] + static_cast<std::uint32_t>(k), face});
+}
+
+template <int D>
+void AtomExpansion<D>::connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch,
+                                      const std::array<std::int32_t, D>& face) {
+  for (const ImmersionEdge& e : edges_across_[patch])
+    input_.adjacencies.push_back({atom(inner, e.inner), atom(outer, e.outer), face});
+}
+
+template class AtomExpansion<2>;
+template class AtomExpansion<3>;
+
 }  // namespace imm

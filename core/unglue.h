@@ -24,7 +24,9 @@
 #include <utility>
 #include <vector>
 
+#include "core/cell_complex.h"
 #include "core/ids.h"
+#include "core/immersion_graph.h"
 
 namespace imm {
 
@@ -82,5 +84,49 @@ UnglueResult<D> unglue(const UnglueInput<D>& input);
 
 extern template UnglueResult<2> unglue<2>(const UnglueInput<2>&);
 extern template UnglueResult<3> unglue<3>(const UnglueInput<3>&);
+
+/// Builds the UnglueInput of one immersion from the local regions the element cutting found
+/// (dim2/virtual_triangles.cpp, dim3/virtual_tets.cpp): every local region lying in a cell c
+/// becomes w(c) atoms, one per graph node of c (paper §7: "assign to each immersion graph node
+/// that is a copy of c a unique copy of T_c"); the element cutting's fusions and adjacencies
+/// become atom pairs through the immersion graph's edges.
+template <int D>
+class AtomExpansion {
+ public:
+  static constexpr std::uint32_t kNoAtom = 0xffffffffu;
+
+  /// @param first     local regions of element e are first[e] .. first[e+1]-1
+  /// @param region    the region of each local region
+  /// @param elements  the background elements (D+1 vertex ids each)
+  AtomExpansion(const CellComplex<D>& complex, const Immersion& immersion, const std::vector<std::uint32_t>& first,
+                const std::vector<RegionId>& region, std::vector<std::array<std::int32_t, D + 1>> elements);
+
+  /// Local regions `inner` and `outer` of one element lie on the two sides of a piece of `patch`
+  /// inside it: every graph edge across the patch glues their atoms (one element copy).
+  void fuse(std::uint32_t inner, std::uint32_t outer, PatchId patch);
+  /// Local regions of two elements meet across `face`, free of the input (one region): the
+  /// copies of each node are connected.
+  void connect(std::uint32_t first, std::uint32_t second, const std::array<std::int32_t, D>& face);
+  /// Local regions of two elements meet across `face` along a piece of `patch` (the input runs in
+  /// the face; `inner` on the patch's inner side): connected through the graph edges across it.
+  void connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch, const std::array<std::int32_t, D>& face);
+
+  /// The atom of local region lr for graph node `node` (a node of the region's cell).
+  [[nodiscard]] std::uint32_t atom(std::uint32_t lr, NodeId node) const;
+  /// The first atom of a local region, or kNoAtom when it lies in no cell.
+  [[nodiscard]] std::uint32_t first_atom(std::uint32_t lr) const { return atom_first_[lr]; }
+  [[nodiscard]] const UnglueInput<D>& input() const { return input_; }
+
+ private:
+  const CellComplex<D>& complex_;
+  const Immersion& immersion_;
+  const std::vector<RegionId>& region_;
+  IdMap<PatchId, std::vector<ImmersionEdge>> edges_across_;
+  std::vector<std::uint32_t> atom_first_;
+  UnglueInput<D> input_;
+};
+
+extern template class AtomExpansion<2>;
+extern template class AtomExpansion<3>;
 
 }  // namespace imm

@@ -55,46 +55,21 @@ MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
 
   // 3. Atoms, fusions and adjacencies for the driver.
   start = std::chrono::steady_clock::now();
-  UnglueInput<2> input;
-  input.elements.reserve(background.triangles.size());
-  for (const auto& t : background.triangles) input.elements.push_back({t[0], t[1], t[2]});
-  const std::size_t local_count = local.region.size();
-  std::vector<std::uint32_t> atom_first(local_count, kNone);
-  for (std::uint32_t lr = 0; lr < local_count; ++lr) {
-    const CellId cell = cc.cell_of(local.region[lr]);
-    if (!cell.is_valid()) continue;
-    atom_first[lr] = static_cast<std::uint32_t>(input.atoms.size());
-    const std::uint32_t t = local.triangle[lr];
-    const auto index_in_triangle = static_cast<std::int32_t>(lr - local.first[t]);
-    for (int k = 0; k < cc.winding_number(cell); ++k)
-      input.atoms.push_back({t, layout.node(cell, k), index_in_triangle});
-  }
-  IdMap<PatchId, std::vector<ImmersionEdge>> edges_across(cc.patch_count());
-  for (const ImmersionEdge& e : immersion.edges) edges_across[e.patch].push_back(e);
-  const auto atom_of = [&](std::uint32_t lr, NodeId node) {
-    IMM_ASSERT(atom_first[lr] != kNone && layout.cell(node) == cc.cell_of(local.region[lr]),
-               "graph node of another cell than the local region's");
-    return atom_first[lr] + static_cast<std::uint32_t>(layout.copy(node));
-  };
-  for (const auto& fusion : local.fusions)
-    for (const ImmersionEdge& e : edges_across[fusion.patch])
-      input.fusions.emplace_back(atom_of(fusion.inner, e.inner), atom_of(fusion.outer, e.outer));
-  input.adjacencies.reserve(local.adjacencies.size());
+  std::vector<std::array<std::int32_t, 3>> elements;
+  elements.reserve(background.triangles.size());
+  for (const auto& t : background.triangles) elements.push_back({t[0], t[1], t[2]});
+  AtomExpansion<2> expansion(cc, immersion, local.first, local.region, std::move(elements));
+  for (const auto& fusion : local.fusions) expansion.fuse(fusion.inner, fusion.outer, fusion.patch);
   for (const auto& adjacency : local.adjacencies) {
     const std::array<std::int32_t, 2> face = {adjacency.edge[0], adjacency.edge[1]};
-    if (!adjacency.patch.is_valid()) {
-      const CellId cell = cc.cell_of(local.region[adjacency.first]);
-      if (!cell.is_valid()) continue;
-      for (int k = 0; k < cc.winding_number(cell); ++k)
-        input.adjacencies.push_back({atom_first[adjacency.first] + static_cast<std::uint32_t>(k),
-                                     atom_first[adjacency.second] + static_cast<std::uint32_t>(k),
-                                     face});
+    if (adjacency.patch.is_valid()) {
+      expansion.connect_across(adjacency.first, adjacency.second, adjacency.patch, face);
     } else {
-      for (const ImmersionEdge& e : edges_across[adjacency.patch])
-        input.adjacencies.push_back(
-            {atom_of(adjacency.first, e.inner), atom_of(adjacency.second, e.outer), face});
+      expansion.connect(adjacency.first, adjacency.second, face);
     }
   }
+  const UnglueInput<2>& input = expansion.input();
+  const auto atom_of = [&](std::uint32_t lr, NodeId node) { return expansion.atom(lr, node); };
 
   // 4. Duplicate and connect.
   const UnglueResult<2> unglued = unglue<2>(input);

@@ -112,38 +112,15 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   // 3. Atoms, fusions and adjacencies for the driver.
   start = std::chrono::steady_clock::now();
   const TetMesh& background = result.background;
-  UnglueInput<3> input;
-  input.elements.reserve(background.tets.size());
-  for (const Tet& t : background.tets) input.elements.push_back({t[0], t[1], t[2], t[3]});
-  const std::size_t local_count = local.region.size();
-  std::vector<std::uint32_t> atom_first(local_count, kNone);
-  for (std::uint32_t lr = 0; lr < local_count; ++lr) {
-    const CellId cell = cc.cell_of(local.region[lr]);
-    if (!cell.is_valid()) continue;
-    atom_first[lr] = static_cast<std::uint32_t>(input.atoms.size());
-    const std::uint32_t t = local.tet[lr];
-    const auto index_in_tet = static_cast<std::int32_t>(lr - local.first[t]);
-    for (int k = 0; k < cc.winding_number(cell); ++k) input.atoms.push_back({t, layout.node(cell, k), index_in_tet});
-  }
-  IdMap<PatchId, std::vector<ImmersionEdge>> edges_across(cc.patch_count());
-  for (const ImmersionEdge& e : immersion.edges) edges_across[e.patch].push_back(e);
-  const auto atom_of = [&](std::uint32_t lr, NodeId node) {
-    IMM_ASSERT(atom_first[lr] != kNone && layout.cell(node) == cc.cell_of(local.region[lr]),
-               "graph node of another cell than the local region's");
-    return atom_first[lr] + static_cast<std::uint32_t>(layout.copy(node));
-  };
-  for (const auto& fusion : local.fusions)
-    for (const ImmersionEdge& e : edges_across[fusion.patch])
-      input.fusions.emplace_back(atom_of(fusion.inner, e.inner), atom_of(fusion.outer, e.outer));
-  input.adjacencies.reserve(local.adjacencies.size());
-  for (const auto& adjacency : local.adjacencies) {
-    const CellId cell = cc.cell_of(local.region[adjacency.first]);
-    if (!cell.is_valid()) continue;
-    const std::array<std::int32_t, 3> face = {adjacency.face[0], adjacency.face[1], adjacency.face[2]};
-    for (int k = 0; k < cc.winding_number(cell); ++k)
-      input.adjacencies.push_back({atom_first[adjacency.first] + static_cast<std::uint32_t>(k),
-                                   atom_first[adjacency.second] + static_cast<std::uint32_t>(k), face});
-  }
+  std::vector<std::array<std::int32_t, 4>> elements;
+  elements.reserve(background.tets.size());
+  for (const Tet& t : background.tets) elements.push_back({t[0], t[1], t[2], t[3]});
+  AtomExpansion<3> expansion(cc, immersion, local.first, local.region, std::move(elements));
+  for (const auto& fusion : local.fusions) expansion.fuse(fusion.inner, fusion.outer, fusion.patch);
+  for (const auto& adjacency : local.adjacencies)
+    expansion.connect(adjacency.first, adjacency.second, {adjacency.face[0], adjacency.face[1], adjacency.face[2]});
+  const UnglueInput<3>& input = expansion.input();
+  const auto atom_of = [&](std::uint32_t lr, NodeId node) { return expansion.atom(lr, node); };
 
   // 4. Duplicate and connect.
   const UnglueResult<3> unglued = unglue<3>(input);
