@@ -1,26 +1,33 @@
 // Virtual tets (paper §7.1 with d = 3): the exact local regions of every background tet.
 //
 // For each background tet T:
-//  1. clipping: every cut triangle whose box overlaps T's is clipped to the closed tet by exact
-//     Sutherland–Hodgman against the four face planes (Epeck). Every polygon vertex is known
+//  1. clipping: every cut triangle whose box overlaps T's is clipped to the closed tet by
+//     Sutherland–Hodgman against the four face planes. Every polygon vertex is known
 //     symbolically — a triangle corner, a triangle edge x a tet face, or a tet edge x the
 //     triangle — and every polygon edge by its origin: a part of a triangle edge, or a trace on
 //     a tet face. The input must meet the background generically: a polygon vertex lying on a
 //     face plane it was not constructed on (an input point on a tet face, an input edge meeting
-//     a tet edge, a tet vertex on the input) is reported and the caller retries with a shifted
-//     background (or refuses a background read from a file).
+//     a tet edge, a tet vertex on the input) is reported, and the caller (dim3/mesh3.cpp) shifts
+//     a generated grid, or translates the input by a tiny explicit vector relative to a read
+//     background, and runs again.
 //  2. pieces: polygons joined across the parts of cut edges inside T (across arcs the four
 //     sheets meet at one geometric edge: the stitch map makes them one piece).
 //  3. sides: the two sides of every polygon, joined across uncut edges (same side) and, around
 //     an arc, through its four wedges (the same wedge rule as the cell complex). The classes are
 //     the local regions next to a piece.
 //  4. several pieces: for every ordered pair (P, Q), which side class of P holds Q. Each test
-//     shoots an exact segment from a point inside a polygon of Q to a point inside a polygon of
-//     P and reads the side of the first polygon of P it crosses; segments through an edge, a
-//     vertex or two hits at once are replaced by another. Two (piece, class) pairs bound the
-//     same local region iff they agree on every piece's class (the pieces are disjoint
-//     closed-in-T surfaces of a ball, so the complement's components are the consistent class
-//     tuples, as in the paper's region tree).
+//     shoots a segment from a point inside a polygon of Q to a point inside a polygon of P and
+//     reads the side of the first polygon of P it crosses; segments through an edge, a vertex
+//     or two hits at once are replaced by another. Two (piece, class) pairs bound the same
+//     local region iff they agree on every piece's class (the pieces are disjoint closed-in-T
+//     surfaces of a ball, so the complement's components are the consistent class tuples, as in
+//     the paper's region tree).
+//
+// Exactness: every tet is first run in interval arithmetic (IK below). Any sign the intervals
+// cannot certify (an exact zero among them) throws, and the tet is run again with Epeck, so
+// every decision is exact; the two paths give identical results (tests/dim3/virtual_tets_test).
+// Tets are independent: blocks of them run on threads and are merged in tet order, so the
+// result does not depend on the thread count.
 //
 // DEVIATION from the paper: §7.1.1 decides inside/outside with angle-weighted pseudo-normals at
 // the closest site of each piece. Angle weights are not rational, so that test cannot be exact;
@@ -33,21 +40,19 @@
 // region on each side (classified by its centroid). Regions of tets without pieces follow by
 // union-find over the input-free adjacencies, seeded by the sides of pieces; a component without
 // any piece is located by one exact segment shooting against the whole cut mesh.
+#include <CGAL/Interval_nt.h>
+#include <CGAL/Simple_cartesian.h>
 #include <CGAL/box_intersection_d.h>
 
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/Interval_nt.h>
-
 #include <algorithm>
-#include <type_traits>
 #include <atomic>
-#include <exception>
-#include <thread>
 #include <bit>
+#include <exception>
 #include <map>
 #include <numeric>
 #include <optional>
-#include <sstream>
+#include <thread>
+#include <type_traits>
 #include <unordered_map>
 
 #include "core/union_find.h"
@@ -59,7 +64,6 @@ namespace imm::dim3::detail {
 namespace {
 
 using Point = EK::Point_3;
-using FT = EK::FT;
 /// Interval arithmetic on doubles: the fast path. A sign it cannot certify throws
 /// CGAL::Uncertain_conversion_exception, and the tet is redone with EK.
 using IK = CGAL::Simple_cartesian<CGAL::Interval_nt<false>>;
