@@ -3,6 +3,7 @@
 // Small hand-written parsers rather than CGAL::IO::read_polygon_soup: every error names the file
 // and the line (text formats) or the record (binary formats), and the whole file is parsed from
 // one buffer with std::from_chars (correctly rounded), which keeps a 4 MB OBJ well under 0.1 s.
+// The tokenizer, number parsing and formatting are shared with dim3/tet_io.cpp (dim3/text_io.h).
 // Every format is first read into a polygon soup; the common finish checks indices, reports
 // non-finite coordinates and fan-triangulates polygons from their first vertex.
 //
@@ -10,13 +11,8 @@
 #include <algorithm>
 #include <bit>
 #include <cctype>
-#include <cerrno>
-#include <charconv>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
@@ -24,23 +20,14 @@
 #include <unordered_map>
 
 #include "dim3/surface.h"
+#include "dim3/text_io.h"
 
 namespace imm::dim3 {
 namespace {
 
+using namespace text;  // the helpers shared with the other dim3 reader
+
 constexpr const char* kReadStage = "read";
-constexpr std::size_t kMaxDefectsPerKind = 20;
-
-std::string format_number(double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  if (value == 0.0) return "0";  // also -0
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);  // shortest round trip
-  return std::string(buffer, result.ptr);
-}
-
-std::vector<double> coordinates(const Point3& p) { return {p[0], p[1], p[2]}; }
 
 /// Read defects, at most kMaxDefectsPerKind messages per kind and then one "... and N more":
 /// a broken file with a million faces must not produce a million lines.
@@ -108,9 +95,7 @@ struct Soup {
 class Where {
  public:
   Where(std::string name, bool lines) : name_(std::move(name)), lines_(lines) {}
-  [[nodiscard]] std::string line(std::uint64_t n) const {
-    return name_ + ":" + std::to_string(n) + ": ";
-  }
+  [[nodiscard]] std::string line(std::uint64_t n) const { return at(name_, n); }
   /// Where a record starts: its line in a text file; in a binary file the message names the record.
   [[nodiscard]] std::string record(std::uint64_t n) const {
     return lines_ ? line(n) : name_ + ": ";
@@ -121,96 +106,6 @@ class Where {
  private:
   std::string name_;
   bool lines_;
-};
-
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-
-std::optional<double> parse_double(std::string_view s) {
-  const char* begin = s.data();
-  const char* end = begin + s.size();
-  if (begin != end && *begin == '+') {
-    ++begin;
-    if (begin != end && *begin == '-') return std::nullopt;
-  }
-  double value = 0;
-  const auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (ptr != end) return std::nullopt;
-  if (ec == std::errc::result_out_of_range)
-    return std::strtod(std::string(s).c_str(), nullptr);  // +-inf or tiny
-  if (ec != std::errc()) return std::nullopt;
-  return value;
-}
-
-std::optional<long long> parse_integer(std::string_view s) {
-  const char* begin = s.data();
-  const char* end = begin + s.size();
-  if (begin != end && *begin == '+') ++begin;
-  long long value = 0;
-  const auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (ec != std::errc() || ptr != end) return std::nullopt;
-  return value;
-}
-
-std::string quoted(std::string_view token) {
-  constexpr std::size_t kMax = 40;
-  std::string s(token.substr(0, kMax));
-  for (char& c : s) {
-    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
-  }
-  return "'" + s + (token.size() > kMax ? "...'" : "'");
-}
-
-/// Whitespace-separated tokens with line numbers (OFF, ASCII PLY, ASCII STL).
-class Tokens {
- public:
-  Tokens(std::string_view text, std::size_t pos, std::uint64_t line, bool hash_comments)
-      : text_(text), pos_(pos), line_(line), hash_comments_(hash_comments) {}
-
-  /// The next token, or nullopt at the end; line() is then its line.
-  std::optional<std::string_view> next() {
-    while (pos_ < text_.size()) {
-      const char c = text_[pos_];
-      if (c == '\n') {
-        ++line_;
-        ++pos_;
-      } else if (is_space(c)) {
-        ++pos_;
-      } else if (hash_comments_ && c == '#') {
-        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-      } else {
-        break;
-      }
-    }
-    if (pos_ >= text_.size()) return std::nullopt;
-    const std::size_t start = pos_;
-    while (pos_ < text_.size() && !is_space(text_[pos_]) && text_[pos_] != '\n') ++pos_;
-    token_line_ = line_;
-    return text_.substr(start, pos_ - start);
-  }
-  /// The next token if it is on the line of the previous one.
-  std::optional<std::string_view> next_on_line() {
-    const std::uint64_t line = token_line_;
-    const std::size_t pos = pos_;
-    const std::uint64_t current = line_;
-    auto token = next();
-    if (token && token_line_ == line) return token;
-    pos_ = pos;
-    line_ = current;
-    token_line_ = line;
-    return std::nullopt;
-  }
-  /// Skips the rest of the current line (trailing colors, normals, an edge count).
-  void skip_line() {
-    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-  }
-  [[nodiscard]] std::uint64_t line() const { return token_line_; }
-
- private:
-  std::string_view text_;
-  std::size_t pos_;
-  std::uint64_t line_;
-  std::uint64_t token_line_ = 0;
-  bool hash_comments_;
 };
 
 // ---- OBJ -----------------------------------------------------------------------------------
@@ -295,7 +190,7 @@ void parse_obj(std::string_view text, const Where& at, Soup& soup, ReadDefects& 
 // ---- OFF -----------------------------------------------------------------------------------
 
 void parse_off(std::string_view text, const Where& at, Soup& soup, ReadDefects& defects) {
-  Tokens tokens(text, 0, 1, true);
+  Tokens tokens(text, {TokenRules::Hash::Comment}, 0, 1, /*first_token_line=*/0);
   const auto header = tokens.next();
   const std::string_view h = header.value_or("");
   const bool off = h.size() >= 3 && h.substr(h.size() - 3) == "OFF" &&
@@ -324,9 +219,7 @@ void parse_off(std::string_view text, const Where& at, Soup& soup, ReadDefects& 
   tokens.skip_line();
   const std::uint64_t counts_at = tokens.line();
   auto truncated = [&](const char* what, long long i, long long n) {
-    defects.add(DefectKind::Unreadable, at.name() + ": the file ends after " + std::to_string(i) +
-                                            " of the " + std::to_string(n) + " " + what +
-                                            " announced on line " + std::to_string(counts_at));
+    defects.add(DefectKind::Unreadable, truncated_message(at.name(), what, i, n, counts_at));
   };
   soup.vertices.reserve(  // a vertex line has at least 6 characters: a wrong count costs nothing
       static_cast<std::size_t>(
@@ -601,7 +494,7 @@ void parse_ply(std::string_view text, Where& at, Soup& soup, ReadDefects& defect
 
   const bool ascii = format == "ascii";
   at.set_lines(ascii);
-  Tokens tokens(text, pos, line_number + 1, false);
+  Tokens tokens(text, {}, pos, line_number + 1, /*first_token_line=*/0);
   BinaryReader binary(text, pos, format == "binary_big_endian");
   std::vector<double> list;
   for (const PlyElement& e : elements) {
@@ -759,7 +652,7 @@ void parse_stl_binary(std::string_view data, const Where& at, Soup& soup, ReadDe
 }
 
 void parse_stl_ascii(std::string_view text, const Where& at, Soup& soup, ReadDefects& defects) {
-  Tokens tokens(text, 0, 1, false);
+  Tokens tokens(text, {}, 0, 1, /*first_token_line=*/0);
   Welder welder(soup);
   bool in_facet = false;
   std::uint64_t facet_line = 0;
@@ -839,12 +732,6 @@ void parse_stl(std::string_view data, Where& at, Soup& soup, ReadDefects& defect
 
 // ---- common ----------------------------------------------------------------------------------
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 /// Range check, non-finite coordinates, fan triangulation.
 Surface finish(Soup& soup, const Where& at, ReadDefects& defects) {
   const bool parsed = !defects.any();  // "no face" after a parse error would only repeat it
@@ -852,9 +739,7 @@ Surface finish(Soup& soup, const Where& at, ReadDefects& defects) {
   s.vertices = std::move(soup.vertices);
   for (std::size_t v = 0; v < s.vertices.size(); ++v) {
     const Point3& p = s.vertices[v];
-    if (soup.is_unreadable(v) ||
-        (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])))
-      continue;
+    if (soup.is_unreadable(v) || is_finite(p)) continue;
     defects.add(DefectKind::NonFinite,
                 at.record(soup.vertex_where[v]) + "vertex " + std::to_string(v) +
                     " has a non-finite coordinate " + format_point(p),
@@ -902,11 +787,24 @@ Surface finish(Soup& soup, const Where& at, ReadDefects& defects) {
   return s;
 }
 
+/// OBJ and OFF after their header: a line `vertex_tag` x y z per vertex, then a line `face_tag`
+/// a b c per triangle, its vertices numbered from `first_index`.
+std::string format_lines(const Surface& surface, std::string header, const char* vertex_tag,
+                         const char* face_tag, unsigned long long first_index) {
+  std::string out = std::move(header);
+  out.reserve(surface.vertex_count() * 40 + surface.triangle_count() * 24);
+  for (const Point3& p : surface.vertices) out += vertex_tag + format_xyz(p) + '\n';
+  for (const Triangle& t : surface.triangles) {
+    out += face_tag + std::to_string(t[0] + first_index) + ' ' +
+           std::to_string(t[1] + first_index) + ' ' + std::to_string(t[2] + first_index) + '\n';
+  }
+  return out;
+}
+
 }  // namespace
 
 bool is_surface_extension(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl";
+  return has_extension(path, {".obj", ".off", ".ply", ".stl"});
 }
 
 SurfaceReadResult read_surface(const std::string& path) {
@@ -920,20 +818,10 @@ SurfaceReadResult read_surface(const std::string& path) {
     return unreadable("cannot read '" + path + "': unknown surface extension '" + ext +
                       "' (expected .obj, .off, .ply or .stl)");
   }
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    return unreadable("cannot read '" + path + "': it is a directory");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return unreadable("cannot open '" + path + "': " + std::strerror(errno));
-  std::string data;
-  file.seekg(0, std::ios::end);
-  const std::streamoff size = file.tellg();
-  file.seekg(0, std::ios::beg);
-  if (size > 0) {
-    data.resize(static_cast<std::size_t>(size));
-    file.read(data.data(), size);
-  }
-  if (!file) return unreadable("cannot read '" + path + "'");
+  std::string error;
+  const std::optional<std::string> file = read_file(path, error);
+  if (!file) return unreadable(std::move(error));
+  const std::string_view data = *file;
 
   Where at(path, true);
   Soup soup;
@@ -964,32 +852,17 @@ std::string format_point(const Point3& p) {
 }
 
 std::string format_obj(const Surface& surface) {
-  std::string out = "# " + std::to_string(surface.vertex_count()) + " vertices, " +
-                    std::to_string(surface.triangle_count()) + " triangles\n";
-  out.reserve(surface.vertex_count() * 40 + surface.triangle_count() * 24);
-  for (const Point3& p : surface.vertices) {
-    out +=
-        "v " + format_number(p[0]) + ' ' + format_number(p[1]) + ' ' + format_number(p[2]) + '\n';
-  }
-  for (const Triangle& t : surface.triangles) {
-    out += "f " + std::to_string(t[0] + 1ull) + ' ' + std::to_string(t[1] + 1ull) + ' ' +
-           std::to_string(t[2] + 1ull) + '\n';
-  }
-  return out;
+  return format_lines(surface,
+                      "# " + std::to_string(surface.vertex_count()) + " vertices, " +
+                          std::to_string(surface.triangle_count()) + " triangles\n",
+                      "v ", "f ", 1);
 }
 
 std::string format_off(const Surface& surface) {
-  std::string out = "OFF\n" + std::to_string(surface.vertex_count()) + ' ' +
-                    std::to_string(surface.triangle_count()) + " 0\n";
-  out.reserve(surface.vertex_count() * 40 + surface.triangle_count() * 24);
-  for (const Point3& p : surface.vertices) {
-    out += format_number(p[0]) + ' ' + format_number(p[1]) + ' ' + format_number(p[2]) + '\n';
-  }
-  for (const Triangle& t : surface.triangles) {
-    out += "3 " + std::to_string(t[0]) + ' ' + std::to_string(t[1]) + ' ' + std::to_string(t[2]) +
-           '\n';
-  }
-  return out;
+  return format_lines(surface,
+                      "OFF\n" + std::to_string(surface.vertex_count()) + ' ' +
+                          std::to_string(surface.triangle_count()) + " 0\n",
+                      "", "3 ", 0);
 }
 
 double signed_volume(const Surface& surface) {

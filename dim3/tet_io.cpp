@@ -2,9 +2,9 @@
 // tetrahedral meshes (dim3/tet_mesh.h): the background meshes a user may pass to the meshing step
 // and the unglued output.
 //
-// Small hand-written parsers, like dim3/surface_io.cpp: every error names the file and the line,
-// numbers are parsed with std::from_chars (correctly rounded) so that a written mesh reads back
-// bit for bit. Each format is first read into a raw mesh (indices 0-based but unchecked); the
+// Small hand-written parsers, like dim3/surface_io.cpp and sharing its tokenizer and number
+// parsing (dim3/text_io.h): every error names the file and the line, numbers are parsed with
+// std::from_chars (correctly rounded) so that a written mesh reads back bit for bit. Each format is first read into a raw mesh (indices 0-based but unchecked); the
 // common finish checks indices and coordinates and orients every tet with the exact predicate
 // (CGAL Epick's orientation is exact on doubles), so that downstream code can rely on
 // det(v1 - v0, v2 - v0, v3 - v0) > 0 without ever looking at a tolerance.
@@ -16,40 +16,25 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <set>
 #include <string_view>
 
 #include "dim3/tet_mesh.h"
+#include "dim3/text_io.h"
 
 namespace imm::dim3 {
 namespace {
 
+using namespace text;  // the helpers shared with the other dim3 reader
+
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
 constexpr const char* kStage = "background";
-constexpr std::size_t kMaxDefectsPerKind = 20;
-
-std::string format_number(double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  if (value == 0.0) return "0";  // also -0
-  char buffer[64];
-  // Shortest decimal that reads back as the same double: as exact as max_digits10, shorter.
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
-}
-
-std::vector<double> coordinates(const Point3& p) { return {p[0], p[1], p[2]}; }
 
 /// Defects with at most kMaxDefectsPerKind listed per kind; the rest go to report.unlisted.
 class Defects {
@@ -73,106 +58,11 @@ class Defects {
   std::map<DefectKind, std::size_t> count_;
 };
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-
-std::optional<double> parse_double(std::string_view s) {
-  const char* begin = s.data();
-  const char* end = begin + s.size();
-  if (begin != end && *begin == '+') {
-    ++begin;
-    if (begin != end && *begin == '-') return std::nullopt;
-  }
-  double value = 0;
-  const auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (ptr != end) return std::nullopt;
-  if (ec == std::errc::result_out_of_range)
-    return std::strtod(std::string(s).c_str(), nullptr);  // +-inf or tiny
-  if (ec != std::errc()) return std::nullopt;
-  return value;
-}
-
-std::optional<long long> parse_integer(std::string_view s) {
-  const char* begin = s.data();
-  const char* end = begin + s.size();
-  if (begin != end && *begin == '+') ++begin;
-  long long value = 0;
-  const auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (ec != std::errc() || ptr != end) return std::nullopt;
-  return value;
-}
-
-std::string quoted(std::string_view token) {
-  constexpr std::size_t kMax = 40;
-  std::string s(token.substr(0, kMax));
-  for (char& c : s) {
-    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
-  }
-  return "'" + s + (token.size() > kMax ? "...'" : "'");
-}
-
 std::string upper(std::string_view s) {
   std::string out(s);
   for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return out;
 }
-
-/// Whitespace-separated tokens with line numbers and `#` comments; Vega also separates by commas.
-class Tokens {
- public:
-  Tokens(std::string_view text, bool comma_separates)
-      : text_(text), comma_separates_(comma_separates) {}
-
-  /// The next token, or nullopt at the end; line() is then its line.
-  std::optional<std::string_view> next() {
-    while (pos_ < text_.size()) {
-      const char c = text_[pos_];
-      if (c == '\n') {
-        ++line_;
-        ++pos_;
-      } else if (is_separator(c)) {
-        ++pos_;
-      } else if (c == '#') {
-        while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-      } else {
-        break;
-      }
-    }
-    if (pos_ >= text_.size()) return std::nullopt;
-    const std::size_t start = pos_;
-    while (pos_ < text_.size() && !is_separator(text_[pos_]) && text_[pos_] != '\n' &&
-           text_[pos_] != '#')
-      ++pos_;
-    token_line_ = line_;
-    return text_.substr(start, pos_ - start);
-  }
-  /// The next token if it is on the line of the previous one.
-  std::optional<std::string_view> next_on_line() {
-    const std::uint64_t line = token_line_;
-    const std::size_t pos = pos_;
-    const std::uint64_t current = line_;
-    auto token = next();
-    if (token && token_line_ == line) return token;
-    pos_ = pos;
-    line_ = current;
-    token_line_ = line;
-    return std::nullopt;
-  }
-  /// Skips the rest of the current line (attributes, boundary markers, a section's name).
-  void skip_line() {
-    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
-  }
-  [[nodiscard]] std::uint64_t line() const { return token_line_; }
-
- private:
-  [[nodiscard]] bool is_separator(char c) const {
-    return is_space(c) || (comma_separates_ && c == ',');
-  }
-  std::string_view text_;
-  bool comma_separates_;
-  std::size_t pos_ = 0;
-  std::uint64_t line_ = 1;
-  std::uint64_t token_line_ = 1;
-};
 
 /// A mesh as written in the file: indices made 0-based but not checked yet.
 struct RawMesh {
@@ -186,12 +76,7 @@ struct RawMesh {
   int index_base = 1;       ///< how the file numbers vertices, for messages
 };
 
-std::string at(const std::string& file, std::uint64_t line) {
-  return file + ":" + std::to_string(line) + ": ";
-}
-
-/// Reads `count` (from a header token) as a non-negative record count, bounded by the file size
-/// so that a wrong count costs no memory.
+/// Reads a header token as a non-negative record count.
 std::optional<long long> parse_count(std::optional<std::string_view> token) {
   if (!token) return std::nullopt;
   const auto n = parse_integer(*token);
@@ -199,10 +84,19 @@ std::optional<long long> parse_count(std::optional<std::string_view> token) {
   return n;
 }
 
-/// Reads `x y z` after an index token, on its line (Vega, TetGen) or anywhere (Medit).
-bool read_point(Tokens& tokens, bool same_line, Point3& p) {
+/// Reserves room for `n` records of at least `min_record_size` bytes each, bounded by the size
+/// of `text` so that a wrong count costs no memory.
+template <class T>
+void reserve_records(std::vector<T>& records, long long n, std::string_view text,
+                     std::size_t min_record_size) {
+  records.reserve(static_cast<std::size_t>(
+      std::min<long long>(n, static_cast<long long>(text.size() / min_record_size))));
+}
+
+/// Reads `x y z` after an index token, on its line.
+bool read_point(Tokens& tokens, Point3& p) {
   for (int k = 0; k < 3; ++k) {
-    const auto token = same_line ? tokens.next_on_line() : tokens.next();
+    const auto token = tokens.next_on_line();
     const auto value = token ? parse_double(*token) : std::nullopt;
     if (!value) return false;
     p[k] = *value;
@@ -212,16 +106,109 @@ bool read_point(Tokens& tokens, bool same_line, Point3& p) {
 
 void truncated(Defects& defects, const std::string& file, const char* what, long long i,
                long long n, std::uint64_t header_line) {
-  defects.add(DefectKind::Unreadable, file + ": the file ends after " + std::to_string(i) +
-                                          " of the " + std::to_string(n) + " " + what +
-                                          " announced on line " + std::to_string(header_line));
+  defects.add(DefectKind::Unreadable, truncated_message(file, what, i, n, header_line));
+}
+
+/// Reads a vertex section of Vega or TetGen (.node): the header 'N 3 ...' (the rest of its line is
+/// skipped), then N lines 'index x y z ...'. The first index numbers the vertices from 0 or 1
+/// (raw.index_base); the others must follow consecutively. `bad_header` is the message for a
+/// header that is not 'N 3', `numbering` says in a message how the format numbers vertices.
+/// @return false when it reported an Unreadable defect (the reading stops)
+bool read_vertex_section(std::string_view text, Tokens& tokens, const std::string& file,
+                         const char* bad_header, const char* numbering, RawMesh& raw,
+                         Defects& defects) {
+  const auto n = parse_count(tokens.next());
+  const std::uint64_t header_line = tokens.line();
+  const auto dimension = tokens.next_on_line();
+  if (!n || !dimension || parse_integer(*dimension) != 3) {
+    defects.add(DefectKind::Unreadable, at(file, header_line) + bad_header);
+    return false;
+  }
+  tokens.skip_line();
+  reserve_records(raw.vertices, *n, text, 8);
+  for (long long i = 0; i < *n; ++i) {
+    const auto index_token = tokens.next();
+    if (!index_token) {
+      truncated(defects, file, "vertices", i, *n, header_line);
+      return false;
+    }
+    const std::uint64_t line = tokens.line();
+    const auto index = parse_integer(*index_token);
+    if (i == 0 && index && (*index == 0 || *index == 1)) raw.index_base = static_cast<int>(*index);
+    Point3 p{};
+    if (!index || *index != i + raw.index_base || !read_point(tokens, p)) {
+      defects.add(DefectKind::Unreadable,
+                  at(file, line) + "expected vertex " + std::to_string(i + raw.index_base) +
+                      " as 'index x y z' (vertices numbered consecutively from " + numbering +
+                      "), found " + quoted(*index_token) + " ...");
+      return false;
+    }
+    raw.vertices.push_back(p);
+    raw.vertex_line.push_back(line);
+    tokens.skip_line();  // TetGen: attributes, boundary marker
+  }
+  return true;
+}
+
+/// Reads the `m` tet lines of Vega or TetGen (.ele) after their header on line `header_line`:
+/// 'index v0 v1 ... [attributes]' with `corners` vertex numbers (4, or 10 for a quadratic tet
+/// whose corners come first), kept as numbered in the file. When `attributes` > 0, the first one
+/// (TetGen's region number) becomes the reference if it is an integer; otherwise it is 0.
+/// `record` is the expected line for a message ("'index v0 v1 v2 v3'").
+/// @return false when it reported an Unreadable defect (the reading stops)
+bool read_tet_records(std::string_view text, Tokens& tokens, const std::string& file, long long m,
+                      std::uint64_t header_line, long long corners, long long attributes,
+                      const char* record, RawMesh& raw, Defects& defects) {
+  reserve_records(raw.tets, m, text, 10);
+  for (long long e = 0; e < m; ++e) {
+    const auto index_token = tokens.next();
+    if (!index_token) {
+      truncated(defects, file, "tets", e, m, header_line);
+      return false;
+    }
+    const std::uint64_t line = tokens.line();
+    std::array<long long, 4> tet{};
+    bool ok = parse_integer(*index_token).has_value();
+    for (long long k = 0; k < corners && ok; ++k) {
+      const auto t = tokens.next_on_line();
+      const auto v = t ? parse_integer(*t) : std::nullopt;
+      ok = v.has_value();
+      if (ok && k < 4) tet[k] = *v;
+    }
+    if (!ok) {
+      defects.add(DefectKind::Unreadable, at(file, line) + "expected tet " + std::to_string(e) +
+                                              " as " + record + " (integers)");
+      return false;
+    }
+    int reference = 0;
+    if (attributes > 0) {
+      if (const auto t = tokens.next_on_line()) {
+        if (const auto value = parse_double(*t); value && std::isfinite(*value) &&
+                                                 *value == std::trunc(*value) &&
+                                                 std::abs(*value) < 2e9)
+          reference = static_cast<int>(*value);
+      }
+    }
+    raw.tets.push_back(tet);
+    raw.reference.push_back(reference);
+    raw.tet_line.push_back(line);
+    tokens.skip_line();
+  }
+  return true;
+}
+
+/// Makes the tets' vertex numbers 0-based, once the vertices have told how the file numbers them.
+void to_zero_based(RawMesh& raw) {
+  for (auto& tet : raw.tets) {
+    for (long long& v : tet) v -= raw.index_base;
+  }
 }
 
 // ---- Vega .veg ---------------------------------------------------------------------------------
 
 void parse_veg(std::string_view text, RawMesh& raw, Defects& defects) {
   const std::string& file = raw.vertex_file;
-  Tokens tokens(text, /*comma_separates=*/true);
+  Tokens tokens(text, {TokenRules::Hash::CommentAnywhere, /*comma_separates=*/true});
   bool saw_vertices = false;
   bool saw_elements = false;
   std::optional<std::string_view> token = tokens.next();
@@ -234,53 +221,26 @@ void parse_veg(std::string_view text, RawMesh& raw, Defects& defects) {
       return;
     }
     const std::string keyword = upper(*token);
-    if (keyword == "*VERTICES") {
-      if (saw_vertices) {
+    // Each of *VERTICES and *ELEMENTS once: a second one would replace or extend the first.
+    auto first_section = [&](bool& seen) {
+      if (seen) {
         defects.add(DefectKind::Unreadable,
-                    at(file, tokens.line()) + "a second '*VERTICES' section");
-        return;
+                    at(file, tokens.line()) + "a second '" + keyword + "' section");
+        return false;
       }
-      saw_vertices = true;
+      seen = true;
+      return true;
+    };
+    if (keyword == "*VERTICES") {
+      if (!first_section(saw_vertices)) return;
       tokens.skip_line();
-      const auto n = parse_count(tokens.next());
-      const std::uint64_t header_line = tokens.line();
-      const auto dimension = tokens.next_on_line();
-      if (!n || !dimension || parse_integer(*dimension) != 3) {
-        defects.add(
-            DefectKind::Unreadable,
-            at(file, header_line) + "expected the vertex header 'N 3 0 0' (N vertices in 3D)");
+      if (!read_vertex_section(text, tokens, file,
+                               "expected the vertex header 'N 3 0 0' (N vertices in 3D)", "1", raw,
+                               defects))
         return;
-      }
-      tokens.skip_line();
-      raw.vertices.reserve(static_cast<std::size_t>(
-          std::min<long long>(*n, static_cast<long long>(text.size() / 8))));
-      for (long long i = 0; i < *n; ++i) {
-        const auto index_token = tokens.next();
-        if (!index_token) return truncated(defects, file, "vertices", i, *n, header_line);
-        const std::uint64_t line = tokens.line();
-        const auto index = parse_integer(*index_token);
-        if (i == 0 && index && (*index == 0 || *index == 1))
-          raw.index_base = static_cast<int>(*index);
-        Point3 p{};
-        if (!index || *index != i + raw.index_base || !read_point(tokens, true, p)) {
-          defects.add(DefectKind::Unreadable,
-                      at(file, line) + "expected vertex " + std::to_string(i + raw.index_base) +
-                          " as 'index x y z' (vertices numbered consecutively from 1), found " +
-                          quoted(*index_token) + " ...");
-          return;
-        }
-        raw.vertices.push_back(p);
-        raw.vertex_line.push_back(line);
-        tokens.skip_line();
-      }
       token = tokens.next();
     } else if (keyword == "*ELEMENTS") {
-      if (saw_elements) {
-        defects.add(DefectKind::Unreadable,
-                    at(file, tokens.line()) + "a second '*ELEMENTS' section");
-        return;
-      }
-      saw_elements = true;
+      if (!first_section(saw_elements)) return;
       tokens.skip_line();
       const auto type = tokens.next();
       if (!type || upper(*type) != "TET") {
@@ -299,29 +259,9 @@ void parse_veg(std::string_view text, RawMesh& raw, Defects& defects) {
         return;
       }
       tokens.skip_line();
-      raw.tets.reserve(static_cast<std::size_t>(
-          std::min<long long>(*m, static_cast<long long>(text.size() / 10))));
-      for (long long e = 0; e < *m; ++e) {
-        const auto index_token = tokens.next();
-        if (!index_token) return truncated(defects, file, "tets", e, *m, header_line);
-        const std::uint64_t line = tokens.line();
-        std::array<long long, 4> tet{};
-        bool ok = parse_integer(*index_token).has_value();
-        for (int k = 0; k < 4 && ok; ++k) {
-          const auto t = tokens.next_on_line();
-          const auto v = t ? parse_integer(*t) : std::nullopt;
-          ok = v.has_value();
-          if (ok) tet[k] = *v;
-        }
-        if (!ok) {
-          defects.add(DefectKind::Unreadable, at(file, line) + "expected tet " + std::to_string(e) +
-                                                  " as 'index v0 v1 v2 v3' (integers)");
-          return;
-        }
-        raw.tets.push_back(tet);
-        raw.tet_line.push_back(line);
-        tokens.skip_line();
-      }
+      if (!read_tet_records(text, tokens, file, *m, header_line, /*corners=*/4, /*attributes=*/0,
+                            "'index v0 v1 v2 v3'", raw, defects))
+        return;
       token = tokens.next();
     } else if (keyword == "*INCLUDE") {
       defects.add(
@@ -337,10 +277,7 @@ void parse_veg(std::string_view text, RawMesh& raw, Defects& defects) {
     }
   }
   // The element section refers to the vertices' numbering; Vega counts from 1.
-  for (auto& tet : raw.tets) {
-    for (long long& v : tet) v -= raw.index_base;
-  }
-  raw.reference.assign(raw.tets.size(), 0);
+  to_zero_based(raw);
   if (!saw_vertices || !saw_elements) {
     defects.add(
         DefectKind::Empty,
@@ -354,9 +291,21 @@ bool starts_with_letter(std::string_view token) {
   return !token.empty() && std::isalpha(static_cast<unsigned char>(token.front()));
 }
 
+/// The record count after a section keyword ("Vertices"); nullopt after reporting a bad one.
+std::optional<long long> read_medit_count(Tokens& tokens, const std::string& file,
+                                          std::string_view keyword, const char* what,
+                                          Defects& defects) {
+  const auto n = parse_count(tokens.next());
+  if (!n) {
+    defects.add(DefectKind::Unreadable, at(file, tokens.line()) + "expected the " + what +
+                                            " count after '" + std::string(keyword) + "'");
+  }
+  return n;
+}
+
 void parse_medit(std::string_view text, RawMesh& raw, Defects& defects) {
   const std::string& file = raw.vertex_file;
-  Tokens tokens(text, /*comma_separates=*/false);
+  Tokens tokens(text, {TokenRules::Hash::CommentAnywhere});
   std::optional<std::string_view> token = tokens.next();
   while (token) {
     const std::uint64_t keyword_line = tokens.line();
@@ -381,14 +330,9 @@ void parse_medit(std::string_view text, RawMesh& raw, Defects& defects) {
         return;
       }
     } else if (keyword == "Vertices") {
-      const auto n = parse_count(tokens.next());
-      if (!n) {
-        defects.add(DefectKind::Unreadable,
-                    at(file, tokens.line()) + "expected the vertex count after 'Vertices'");
-        return;
-      }
-      raw.vertices.reserve(static_cast<std::size_t>(
-          std::min<long long>(*n, static_cast<long long>(text.size() / 8))));
+      const auto n = read_medit_count(tokens, file, keyword, "vertex", defects);
+      if (!n) return;
+      reserve_records(raw.vertices, *n, text, 8);
       for (long long i = 0; i < *n; ++i) {
         const auto first = tokens.next();
         if (!first) return truncated(defects, file, "vertices", i, *n, keyword_line);
@@ -417,14 +361,9 @@ void parse_medit(std::string_view text, RawMesh& raw, Defects& defects) {
         raw.vertex_line.push_back(line);
       }
     } else if (keyword == "Tetrahedra") {
-      const auto m = parse_count(tokens.next());
-      if (!m) {
-        defects.add(DefectKind::Unreadable,
-                    at(file, tokens.line()) + "expected the tet count after 'Tetrahedra'");
-        return;
-      }
-      raw.tets.reserve(static_cast<std::size_t>(
-          std::min<long long>(*m, static_cast<long long>(text.size() / 10))));
+      const auto m = read_medit_count(tokens, file, keyword, "tet", defects);
+      if (!m) return;
+      reserve_records(raw.tets, *m, text, 10);
       for (long long e = 0; e < *m; ++e) {
         std::array<long long, 5> values{};
         std::uint64_t line = 0;
@@ -460,42 +399,15 @@ void parse_medit(std::string_view text, RawMesh& raw, Defects& defects) {
 // ---- TetGen .node / .ele -----------------------------------------------------------------------
 
 void parse_node(std::string_view text, RawMesh& raw, Defects& defects) {
-  const std::string& file = raw.vertex_file;
-  Tokens tokens(text, /*comma_separates=*/false);
-  const auto n = parse_count(tokens.next());
-  const std::uint64_t header_line = tokens.line();
-  const auto dimension = tokens.next_on_line();
-  if (!n || !dimension || parse_integer(*dimension) != 3) {
-    defects.add(DefectKind::Unreadable,
-                at(file, header_line) + "expected the header 'N 3 attributes boundary_marker'");
-    return;
-  }
-  tokens.skip_line();
-  raw.vertices.reserve(
-      static_cast<std::size_t>(std::min<long long>(*n, static_cast<long long>(text.size() / 8))));
-  for (long long i = 0; i < *n; ++i) {
-    const auto index_token = tokens.next();
-    if (!index_token) return truncated(defects, file, "vertices", i, *n, header_line);
-    const std::uint64_t line = tokens.line();
-    const auto index = parse_integer(*index_token);
-    if (i == 0 && index && (*index == 0 || *index == 1)) raw.index_base = static_cast<int>(*index);
-    Point3 p{};
-    if (!index || *index != i + raw.index_base || !read_point(tokens, true, p)) {
-      defects.add(DefectKind::Unreadable,
-                  at(file, line) + "expected vertex " + std::to_string(i + raw.index_base) +
-                      " as 'index x y z' (vertices numbered consecutively from 0 or 1), found " +
-                      quoted(*index_token) + " ...");
-      return;
-    }
-    raw.vertices.push_back(p);
-    raw.vertex_line.push_back(line);
-    tokens.skip_line();  // attributes, boundary marker
-  }
+  Tokens tokens(text, {TokenRules::Hash::CommentAnywhere});
+  read_vertex_section(text, tokens, raw.vertex_file,
+                      "expected the header 'N 3 attributes boundary_marker'", "0 or 1", raw,
+                      defects);
 }
 
 void parse_ele(std::string_view text, RawMesh& raw, Defects& defects) {
   const std::string& file = raw.tet_file;
-  Tokens tokens(text, /*comma_separates=*/false);
+  Tokens tokens(text, {TokenRules::Hash::CommentAnywhere});
   const auto m = parse_count(tokens.next());
   const std::uint64_t header_line = tokens.line();
   const auto per_tet_token = tokens.next_on_line();
@@ -510,78 +422,18 @@ void parse_ele(std::string_view text, RawMesh& raw, Defects& defects) {
     return;
   }
   tokens.skip_line();
-  raw.tets.reserve(
-      static_cast<std::size_t>(std::min<long long>(*m, static_cast<long long>(text.size() / 10))));
-  for (long long e = 0; e < *m; ++e) {
-    const auto index_token = tokens.next();
-    if (!index_token) return truncated(defects, file, "tets", e, *m, header_line);
-    const std::uint64_t line = tokens.line();
-    std::array<long long, 4> tet{};
-    bool ok = parse_integer(*index_token).has_value();
-    for (long long k = 0; k < corners && ok; ++k) {
-      const auto t = tokens.next_on_line();
-      const auto v = t ? parse_integer(*t) : std::nullopt;
-      ok = v.has_value();
-      if (ok && k < 4) tet[k] = *v - raw.index_base;  // numbered like the .node file
-    }
-    if (!ok) {
-      defects.add(DefectKind::Unreadable, at(file, line) + "expected tet " + std::to_string(e) +
-                                              " as 'index v0 v1 v2 v3 [attributes]' (integers)");
-      return;
-    }
-    // The first attribute (TetGen's region number) becomes the reference when it is an integer.
-    int reference = 0;
-    if (*attributes > 0) {
-      if (const auto t = tokens.next_on_line()) {
-        if (const auto value = parse_double(*t); value && std::isfinite(*value) &&
-                                                 *value == std::trunc(*value) &&
-                                                 std::abs(*value) < 2e9)
-          reference = static_cast<int>(*value);
-      }
-    }
-    raw.tets.push_back(tet);
-    raw.reference.push_back(reference);
-    raw.tet_line.push_back(line);
-    tokens.skip_line();
-  }
+  if (read_tet_records(text, tokens, file, *m, header_line, corners, *attributes,
+                       "'index v0 v1 v2 v3 [attributes]'", raw, defects))
+    to_zero_based(raw);  // numbered like the .node file
 }
 
 // ---- common ------------------------------------------------------------------------------------
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 std::optional<std::string> read_file(const std::string& path, Defects& defects) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    defects.add(DefectKind::Unreadable, "cannot read '" + path + "': it is a directory");
-    return std::nullopt;
-  }
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    defects.add(DefectKind::Unreadable, "cannot open '" + path + "': " + std::strerror(errno));
-    return std::nullopt;
-  }
-  std::string data;
-  file.seekg(0, std::ios::end);
-  const std::streamoff size = file.tellg();
-  file.seekg(0, std::ios::beg);
-  if (size > 0) {
-    data.resize(static_cast<std::size_t>(size));
-    file.read(data.data(), size);
-  }
-  if (!file) {
-    defects.add(DefectKind::Unreadable, "cannot read '" + path + "'");
-    return std::nullopt;
-  }
+  std::string error;
+  auto data = text::read_file(path, error);
+  if (!data) defects.add(DefectKind::Unreadable, std::move(error));
   return data;
-}
-
-bool is_finite(const Point3& p) {
-  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
 }
 
 /// Index range, non-finite coordinates, exact orientation: the raw mesh becomes a TetMesh whose
@@ -662,8 +514,7 @@ void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
 }  // namespace
 
 bool is_tet_mesh_extension(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  return ext == ".veg" || ext == ".mesh" || ext == ".node" || ext == ".ele";
+  return has_extension(path, {".veg", ".mesh", ".node", ".ele"});
 }
 
 TetReadResult read_tet_mesh(const std::string& path) {
@@ -706,7 +557,7 @@ std::string format_medit_3d(const TetMesh& mesh) {
                     std::to_string(mesh.vertices.size()) + "\n";
   out.reserve(mesh.vertices.size() * 64 + mesh.tets.size() * 40);
   for (const Point3& p : mesh.vertices) {
-    out += format_number(p[0]) + ' ' + format_number(p[1]) + ' ' + format_number(p[2]) + " 0\n";
+    out += format_xyz(p) + " 0\n";
   }
   out += "Tetrahedra\n" + std::to_string(mesh.tets.size()) + "\n";
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
@@ -733,8 +584,7 @@ std::string format_vtu(const TetMesh& mesh) {
       "        <DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" "
       "format=\"ascii\">\n";
   for (const Point3& p : mesh.vertices) {
-    out += "          " + format_number(p[0]) + ' ' + format_number(p[1]) + ' ' +
-           format_number(p[2]) + '\n';
+    out += "          " + format_xyz(p) + '\n';
   }
   out +=
       "        </DataArray>\n"
@@ -776,8 +626,7 @@ std::string format_veg(const TetMesh& mesh) {
   out.reserve(mesh.vertices.size() * 64 + mesh.tets.size() * 40);
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
     const Point3& p = mesh.vertices[v];
-    out += std::to_string(v + 1) + ' ' + format_number(p[0]) + ' ' + format_number(p[1]) + ' ' +
-           format_number(p[2]) + '\n';
+    out += std::to_string(v + 1) + ' ' + format_xyz(p) + '\n';
   }
   out += "\n*ELEMENTS\nTET\n" + std::to_string(mesh.tets.size()) + " 4 0\n";
   for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
