@@ -19,7 +19,8 @@ namespace imm::dim3 {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-/// Generated grids tried before a non-generic contact is reported (each is shifted).
+/// Attempts at a generic contact before a non-generic one is reported: generated grids (each
+/// shifted), or translations of the input relative to a read background.
 constexpr int kMaxAttempts = 5;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -127,17 +128,15 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   // Helper-box solids: graph components owning only patches of helper triangles.
   std::vector<char> helper_node(layout.node_count(), 0);
   if (input_triangles < complex.surface.triangle_count()) {
-    IdMap<PatchId, char> user_patch(cc.patch_count(), 0);
+    const std::vector<std::vector<NodeId>> components = immersion.components();
+    std::vector<std::size_t> component_of(layout.node_count(), 0);
+    for (std::size_t k = 0; k < components.size(); ++k)
+      for (NodeId n : components[k]) component_of[n.index()] = k;
+    std::vector<char> owns_user_patch(components.size(), 0);
     for (std::size_t x = 0; x < complex.cut_triangles.size(); ++x)
-      if (complex.cut_triangle_source[x] < input_triangles) user_patch[complex.cut_triangle_patch[x]] = 1;
-    for (const std::vector<NodeId>& component : immersion.components()) {
-      bool owns_user_patch = false;
-      for (PatchId q : ids<PatchId>(cc.patch_count()))
-        if (user_patch[q] && std::find(component.begin(), component.end(), immersion.owner[q]) != component.end())
-          owns_user_patch = true;
-      if (!owns_user_patch)
-        for (NodeId n : component) helper_node[n.index()] = 1;
-    }
+      if (complex.cut_triangle_source[x] < input_triangles)
+        owns_user_patch[component_of[immersion.owner[complex.cut_triangle_patch[x]].index()]] = 1;
+    for (std::size_t n = 0; n < helper_node.size(); ++n) helper_node[n] = owns_user_patch[component_of[n]] ? 0 : 1;
   }
   std::vector<std::uint32_t> copy_index(unglued.copies.size(), kNone);
   std::vector<std::int32_t> vertex_index(unglued.vertex_source.size(), -1);
