@@ -42,11 +42,12 @@
 // any piece is located by one exact segment shooting against the whole cut mesh.
 #include <CGAL/Interval_nt.h>
 #include <CGAL/Simple_cartesian.h>
-#include <CGAL/box_intersection_d.h>
 
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <cmath>
+#include <limits>
 #include <exception>
 #include <map>
 #include <numeric>
@@ -211,8 +212,8 @@ class VirtualTets {
   /// Runs body(i, worker) for i in [0, count) on threads_ threads (dynamic scheduling); the first
   /// exception is rethrown on the calling thread.
   template <class Body>
-  void parallel_for(std::size_t count, const Body& body) const {
-    const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(threads_, (count + 63) / 64));
+  void parallel_for(std::size_t count, const Body& body, std::size_t grain = 64) const {
+    const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(threads_, (count + grain - 1) / grain));
     if (workers <= 1) {
       for (std::size_t i = 0; i < count; ++i) body(i, 0);
       return;
@@ -223,8 +224,9 @@ class VirtualTets {
     for (unsigned w = 0; w < workers; ++w) {
       pool.emplace_back([&, w] {
         try {
-          for (std::size_t i; (i = next.fetch_add(16)) < count;)
-            for (std::size_t j = i; j < std::min(count, i + 16); ++j) body(j, w);
+          const std::size_t step = std::min<std::size_t>(grain, 16);
+          for (std::size_t i; (i = next.fetch_add(step)) < count;)
+            for (std::size_t j = i; j < std::min(count, i + step); ++j) body(j, w);
         } catch (...) {
           errors[w] = std::current_exception();
           next = count;
@@ -260,21 +262,101 @@ class VirtualTets {
 
   /// (tet, cut triangle) pairs whose boxes overlap, sorted. Triangle boxes come from the interval
   /// approximations of the exact points (they contain the exact points): a conservative filter.
+  /// The tets are binned in a uniform grid of cells about one tet across (a background mesh is
+  /// roughly uniform; CGAL's box_intersection_d, tried first, cost as much as the clipping); each
+  /// triangle visits the cells its box overlaps and keeps the tets whose boxes overlap its own,
+  /// each once. Triangles are split among the threads; the pairs are sorted at the end.
   void find_candidates() {
-    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
-    std::vector<Box> tets, triangles;
-    tets.reserve(bg_.tets.size());
-    for (std::uint32_t t = 0; t < bg_.tets.size(); ++t) {
-      CGAL::Bbox_3 b;
-      for (int k = 0; k < 4; ++k) b += points_[static_cast<std::size_t>(bg_.tets[t][k])].bbox();
-      tets.emplace_back(b, t);
+    const std::size_t tet_count = bg_.tets.size();
+    std::vector<CGAL::Bbox_3> tet_box(tet_count);
+    CGAL::Bbox_3 all;
+    double extent = 0.0;
+    for (std::size_t t = 0; t < tet_count; ++t) {
+      for (int k = 0; k < 4; ++k) tet_box[t] += points_[static_cast<std::size_t>(bg_.tets[t][k])].bbox();
+      all += tet_box[t];
+      extent += std::max({tet_box[t].xmax() - tet_box[t].xmin(), tet_box[t].ymax() - tet_box[t].ymin(),
+                          tet_box[t].zmax() - tet_box[t].zmin()});
     }
-    triangles.reserve(m_.triangles.size());
-    for (std::uint32_t x = 0; x < m_.triangles.size(); ++x)
-      triangles.emplace_back(corner(x, 0).bbox() + corner(x, 1).bbox() + corner(x, 2).bbox(), x);
-    CGAL::box_intersection_d(tets.begin(), tets.end(), triangles.begin(), triangles.end(),
-                             [&](const Box& a, const Box& b) { candidates_.emplace_back(a.info(), b.info()); });
-    std::sort(candidates_.begin(), candidates_.end());
+    if (tet_count == 0 || m_.triangles.empty()) return;
+    // Cells of about the mean tet extent, at most ~8 per tet overall.
+    double cell = 0.5 * extent / static_cast<double>(tet_count);
+    const double span[3] = {all.xmax() - all.xmin(), all.ymax() - all.ymin(), all.zmax() - all.zmin()};
+    const double budget = 8.0 * static_cast<double>(tet_count);
+    if (!(cell > 0.0)) cell = 1.0;
+    while ((span[0] / cell + 1) * (span[1] / cell + 1) * (span[2] / cell + 1) > budget) cell *= 1.25;
+    std::array<std::size_t, 3> dims{};
+    for (int d = 0; d < 3; ++d) dims[d] = static_cast<std::size_t>(span[d] / cell) + 1;
+    const double lo[3] = {all.xmin(), all.ymin(), all.zmin()};
+    const auto index = [&](double x, int d) {
+      const double i = std::floor((x - lo[d]) / cell);
+      return static_cast<std::size_t>(std::clamp(i, 0.0, static_cast<double>(dims[d] - 1)));
+    };
+    const auto cell_range = [&](const CGAL::Bbox_3& b, std::array<std::size_t, 3>& from, std::array<std::size_t, 3>& to) {
+      for (int d = 0; d < 3; ++d) {
+        from[d] = index(b.min(d), d);
+        to[d] = index(b.max(d), d);
+      }
+    };
+    // Tets per cell (counting sort).
+    const std::size_t cells = dims[0] * dims[1] * dims[2];
+    std::vector<std::uint32_t> cell_first(cells + 1, 0), cell_tets;
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<std::uint32_t> next;
+      if (pass == 1) {
+        for (std::size_t c = 0; c < cells; ++c) cell_first[c + 1] += cell_first[c];
+        cell_tets.resize(cell_first[cells]);
+        next.assign(cell_first.begin(), cell_first.end() - 1);
+      }
+      for (std::uint32_t t = 0; t < tet_count; ++t) {
+        std::array<std::size_t, 3> from{}, to{};
+        cell_range(tet_box[t], from, to);
+        for (std::size_t i = from[0]; i <= to[0]; ++i)
+          for (std::size_t j = from[1]; j <= to[1]; ++j)
+            for (std::size_t k = from[2]; k <= to[2]; ++k) {
+              const std::size_t c = (i * dims[1] + j) * dims[2] + k;
+              if (pass == 0) {
+                ++cell_first[c + 1];
+              } else {
+                cell_tets[next[c]++] = t;
+              }
+            }
+      }
+    }
+    const std::size_t slices = std::min<std::size_t>(threads_, 1 + m_.triangles.size() / 4096);
+    std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(slices);
+    parallel_for(slices, [&](std::size_t slice, unsigned) {
+      std::vector<std::uint32_t> seen(tet_count, std::numeric_limits<std::uint32_t>::max());
+      const std::size_t begin = m_.triangles.size() * slice / slices;
+      const std::size_t end = m_.triangles.size() * (slice + 1) / slices;
+      for (auto x = static_cast<std::uint32_t>(begin); x < end; ++x) {
+        const CGAL::Bbox_3 b = corner(x, 0).bbox() + corner(x, 1).bbox() + corner(x, 2).bbox();
+        std::array<std::size_t, 3> from{}, to{};
+        cell_range(b, from, to);
+        for (std::size_t i = from[0]; i <= to[0]; ++i)
+          for (std::size_t j = from[1]; j <= to[1]; ++j)
+            for (std::size_t k = from[2]; k <= to[2]; ++k) {
+              const std::size_t c = (i * dims[1] + j) * dims[2] + k;
+              for (std::uint32_t n = cell_first[c]; n < cell_first[c + 1]; ++n) {
+                const std::uint32_t t = cell_tets[n];
+                if (seen[t] == x) continue;
+                seen[t] = x;
+                if (CGAL::do_overlap(b, tet_box[t])) found[slice].emplace_back(t, x);
+              }
+            }
+      }
+    }, /*grain=*/1);
+    // Sorted by (tet, triangle): a counting sort by tet, then each tet's few triangles.
+    std::vector<std::uint32_t> first(tet_count + 1, 0);
+    for (const auto& f : found)
+      for (const auto& [t, x] : f) ++first[t + 1];
+    for (std::size_t t = 0; t < tet_count; ++t) first[t + 1] += first[t];
+    candidates_.resize(first[tet_count]);
+    for (const auto& f : found)
+      for (const auto& pair : f) candidates_[first[pair.first]++] = pair;
+    for (std::size_t t = tet_count; t > 0; --t) first[t] = first[t - 1];
+    first[0] = 0;
+    for (std::size_t t = 0; t < tet_count; ++t)
+      std::sort(candidates_.begin() + first[t], candidates_.begin() + first[t + 1]);
     out_.candidate_pairs = candidates_.size();
   }
 
@@ -293,9 +375,10 @@ class VirtualTets {
       poly.vertices.push_back({corner_in<K>(x, k), 0, static_cast<std::int32_t>(m_.triangles[x][k])});
       poly.edge_origin.push_back(static_cast<std::uint8_t>(k));
     }
-    std::vector<ClipVertexT<K>> next_vertices;
-    std::vector<std::uint8_t> next_origin;
-    std::vector<CGAL::Orientation> side;
+    // Scratch reused across calls: no allocation per (tet, triangle) pair.
+    thread_local std::vector<ClipVertexT<K>> next_vertices;
+    thread_local std::vector<std::uint8_t> next_origin;
+    thread_local std::vector<CGAL::Orientation> side;
     for (int f = 0; f < 4 && !poly.vertices.empty(); ++f) {
       const std::size_t n = poly.vertices.size();
       side.resize(n);
@@ -574,7 +657,11 @@ class VirtualTets {
     out_.pieces += o.pieces;
     out_.side_tests += o.side_tests;
     for (auto f : o.fusions) out_.fusions.push_back({base + f.inner, base + f.outer, f.patch});
+    std::sort(o.traces.begin(), o.traces.end(), [](const Trace& a, const Trace& b) {
+      return std::tie(a.face, a.triangle) < std::tie(b.face, b.triangle);
+    });
     for (auto tr : o.traces) traces_.push_back({tr.tet, tr.face, tr.triangle, base + tr.outer, base + tr.inner});
+    trace_first_.push_back(static_cast<std::uint32_t>(traces_.size()));
     for (auto e : o.embedded) out_.embedded.push_back({base + e.local_region, e.cut_triangle, e.inner});
     for (auto& [point, location] : o.vertices) {
       if (out_.vertices[point].local_region != kNone) continue;  // the first tet (in order) wins
@@ -731,27 +818,36 @@ class VirtualTets {
       std::uint32_t tet;
       std::uint8_t f;
     };
-    std::vector<FaceRef> faces;
-    faces.reserve(4 * bg_.tets.size());
+    // Bucketed by their smallest vertex (linear), then sorted within each small bucket.
+    std::vector<std::uint32_t> bucket(bg_.vertices.size() + 1, 0);
+    const auto key_of = [&](std::uint32_t t, int f) {
+      std::array<int, 3> key = {bg_.tets[t][kFace[f][0]], bg_.tets[t][kFace[f][1]], bg_.tets[t][kFace[f][2]]};
+      std::sort(key.begin(), key.end());
+      return key;
+    };
     for (std::uint32_t t = 0; t < bg_.tets.size(); ++t)
-      for (std::uint8_t f = 0; f < 4; ++f) {
-        std::array<int, 3> key = {bg_.tets[t][kFace[f][0]], bg_.tets[t][kFace[f][1]], bg_.tets[t][kFace[f][2]]};
-        std::sort(key.begin(), key.end());
-        faces.push_back({key, t, f});
-      }
-    std::sort(faces.begin(), faces.end(), [](const FaceRef& a, const FaceRef& b) {
-      return std::tie(a.key, a.tet, a.f) < std::tie(b.key, b.tet, b.f);
-    });
-    std::sort(traces_.begin(), traces_.end(), [](const Trace& a, const Trace& b) {
-      return std::tie(a.tet, a.face, a.triangle) < std::tie(b.tet, b.face, b.triangle);
-    });
+      for (int f = 0; f < 4; ++f) ++bucket[static_cast<std::size_t>(key_of(t, f)[0]) + 1];
+    for (std::size_t v = 0; v + 1 < bucket.size(); ++v) bucket[v + 1] += bucket[v];
+    std::vector<FaceRef> faces(4 * bg_.tets.size());
+    {
+      std::vector<std::uint32_t> next(bucket.begin(), bucket.end() - 1);
+      for (std::uint32_t t = 0; t < bg_.tets.size(); ++t)
+        for (std::uint8_t f = 0; f < 4; ++f) {
+          const std::array<int, 3> key = key_of(t, f);
+          faces[next[static_cast<std::size_t>(key[0])]++] = {key, t, f};
+        }
+    }
+    for (std::size_t v = 0; v + 1 < bucket.size(); ++v)
+      std::sort(faces.begin() + bucket[v], faces.begin() + bucket[v + 1], [](const FaceRef& a, const FaceRef& b) {
+        return std::tie(a.key, a.tet, a.f) < std::tie(b.key, b.tet, b.f);
+      });
+    // traces_ is in (tet, face, triangle) order already (merge appends each tet's, sorted).
     const auto traces_of = [&](std::uint32_t t, std::uint8_t f) {
-      const auto lo = std::lower_bound(traces_.begin(), traces_.end(), std::make_pair(t, f),
-                                       [](const Trace& a, const std::pair<std::uint32_t, std::uint8_t>& k) {
-                                         return std::tie(a.tet, a.face) < std::tie(k.first, k.second);
-                                       });
+      auto lo = traces_.begin() + trace_first_[t];
+      const auto end = traces_.begin() + trace_first_[t + 1];
+      while (lo != end && lo->face < f) ++lo;
       auto hi = lo;
-      while (hi != traces_.end() && hi->tet == t && hi->face == f) ++hi;
+      while (hi != end && hi->face == f) ++hi;
       return std::make_pair(lo, hi);
     };
     const auto face_lr = [&](std::uint32_t t, std::uint8_t f) {
@@ -916,7 +1012,8 @@ class VirtualTets {
   std::vector<IK::Point_3> input_intervals_;
   std::unordered_map<std::uint64_t, std::uint32_t> arc_edge_;  ///< geometric cut edge -> CutPiece
   std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
-  std::vector<Trace> traces_;
+  std::vector<Trace> traces_;               ///< in (tet, face, triangle) order
+  std::vector<std::uint32_t> trace_first_{0};  ///< traces of tet t: trace_first_[t] .. [t+1]-1
   std::vector<std::uint32_t> face_region_;  ///< per (tet, face) without traces in a cut tet
   std::vector<char> triangle_has_polygon_;
   std::vector<std::pair<std::uint32_t, std::uint8_t>> boundary_;
