@@ -167,7 +167,9 @@ overlapping and nearly touching parts are not glued.
   -o OUT.mesh|.vtu|.veg Medit (reference = graph node), VTK XML for ParaView, or Vega
 Both:
   --immersion K         which immersion (0-based, in the search's order; default 0)
-  --method clip         the paper's method (the CSG baseline, 'csg', is not implemented yet)
+  --method clip|csg     the paper's exact clipping (default), or the CSG baseline it compares with
+                        (Sifakis et al. 2007: exact polygon booleans per element; same mesh,
+                        slower; 2D only for now)
   --max-states N, --time-limit S   search budgets, as for 'immerse immersions'
   --embedding OUT.emb   per input vertex: output element and barycentric weights
   --json OUT            counts (background, cut and output elements, vertices, copies per cell)
@@ -907,7 +909,7 @@ Json mesh_json(const Prepared& p, const SearchResult& r, std::size_t k, const di
   o.set("resolution", options.background_path ? Json() : Json(options.resolution));
   o.set("background", options.background_path ? Json(*options.background_path) : Json());
   o.set("conforming", options.conforming);
-  o.set("method", "clip");
+  o.set("method", options.method == MeshMethod::Csg ? "csg" : "clip");
   Json& c = j.set("counts", Json::object());
   c.set("input_vertices", p.curves.vertex_count());
   c.set("background_triangles", m.stats.background_triangles);
@@ -1000,15 +1002,20 @@ int command_mesh(Session& s, const CommandLine& cl) {
     if (auto* e = std::get_if<UsageError>(&n)) return usage_error(env, "mesh", e->message);
     k = static_cast<std::size_t>(std::get<long long>(n));
   }
-  if (auto v = cl.value("--method"); v && *v != "clip") {
-    if (*v == "csg") return usage_error(env, "mesh", "--method csg: the CSG baseline is not implemented yet");
-    return usage_error(env, "mesh", "--method expects 'clip' or 'csg', got '" + *v + "'");
+  if (auto v = cl.value("--method")) {
+    if (*v == "csg") {
+      options.method = MeshMethod::Csg;
+    } else if (*v != "clip") {
+      return usage_error(env, "mesh", "--method expects 'clip' or 'csg', got '" + *v + "'");
+    }
   }
   SearchRequest request;
   if (std::string error = parse_search_request(cl, request); !error.empty()) return usage_error(env, "mesh", error);
   const bool all = cl.has("--all");
   request.max_immersions = all ? 0 : k + 1;
   if (is_surface_file(cl.positional[0])) {
+    if (options.method == MeshMethod::Csg)
+      return usage_error(env, "mesh", "--method csg: the CSG baseline is 2D only for now");
     dim3::MeshOptions3 options3;
     if (options.background_path) options3.background_path = options.background_path;
     if (cl.has("--resolution")) {

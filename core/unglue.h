@@ -30,6 +30,11 @@
 
 namespace imm {
 
+/// How the local regions of the background elements are computed: the paper's exact clipping
+/// (§7.1, the default) or the CSG baseline it compares with (Sifakis et al. 2007; Table 2), exact
+/// booleans of each element with the regions. Both give the same duplication.
+enum class MeshMethod { Clip, Csg };
+
 /// A local region of one background element as seen by one immersion-graph node.
 struct UnglueAtom {
   std::uint32_t element = 0;     ///< background element index

@@ -47,7 +47,9 @@ MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
   // 2. Local regions (virtual triangles).
   start = std::chrono::steady_clock::now();
   const detail::LocalRegions local =
-      detail::compute_local_regions(complex, background, options.record_contents, result.report);
+      options.method == MeshMethod::Csg
+          ? detail::compute_local_regions_csg(complex, background, options.record_contents, result.report)
+          : detail::compute_local_regions(complex, background, options.record_contents, result.report);
   result.stats.seconds_virtual = seconds_since(start);
   result.stats.cut_triangles = local.cut_triangles;
   if (!result.report.ok()) return result;

@@ -11,6 +11,7 @@
 
 #include "core/diagnostics.h"
 #include "core/immersion_graph.h"
+#include "core/unglue.h"
 #include "dim2/complex2.h"
 
 namespace imm::dim2 {
@@ -31,6 +32,8 @@ struct MeshOptions {
   std::optional<std::string> background_path;
   /// Fill MeshResult::contents (what every output triangle holds; for tests and diagnostics).
   bool record_contents = false;
+  /// Exact clipping (default) or the CSG baseline (exact polygon booleans, slower, same mesh).
+  MeshMethod method = MeshMethod::Clip;
   LogCallback progress;
 };
 

@@ -90,4 +90,10 @@ struct LocalRegions {
 LocalRegions compute_local_regions(const Complex2& complex, const Background& background,
                                    bool record_pieces, ValidationReport& report);
 
+/// CSG baseline (Sifakis et al. 2007, as the paper compares it; dim2/virtual_triangles_csg.cpp):
+/// the same local regions computed with exact regularized booleans (CGAL Polygon_set_2) of each
+/// nearby region of the complex with the triangle. Meshing uses it with MeshOptions::method = Csg.
+LocalRegions compute_local_regions_csg(const Complex2& complex, const Background& background,
+                                       bool record_pieces, ValidationReport& report);
+
 }  // namespace imm::dim2::detail

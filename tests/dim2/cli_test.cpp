@@ -3,6 +3,7 @@
 // job, and that no temporary "*.tmp.*" file is ever left behind.
 //
 // Each test runs the real executable (IMM_IMMERSE_EXE) with popen in a fresh temporary directory.
+#include <algorithm>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -294,6 +295,41 @@ TEST_F(CliTest, MeshFilesMatchTheJsonCounts) {
   while (std::getline(emb, line)) lines += line.empty() ? 0 : 1;
   EXPECT_EQ(lines, 120);
   EXPECT_CONTAINS(read("m/doodle.svg"), "</svg>");
+  // The CSG baseline (exact polygon booleans per triangle) gives the same duplication: the same
+  // vertex copies and triangle copies with the same references, numbered in another order when
+  // it lists a triangle's local regions in another order.
+  const Outcome csg = run("mesh doodle.txt --resolution 12 --immersion 1 --method csg -o m/csg.mesh "
+                          "--embedding m/csg.emb --json m/csg.json");
+  ASSERT_EQ(csg.code, 0) << csg.output;
+  const std::string csg_mesh = read("m/csg.mesh");
+  EXPECT_EQ(medit_count(csg_mesh, "Triangles"), triangles);
+  EXPECT_EQ(medit_count(csg_mesh, "Vertices"), vertices);
+  const auto sorted_lines = [](const std::string& text) {
+    std::istringstream in(text);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    std::sort(lines.begin(), lines.end());
+    return lines;
+  };
+  // Vertex positions (as a multiset) and the references of the triangles agree.
+  const auto references = [](const std::string& text) {
+    std::istringstream in(text.substr(text.find("Triangles")));
+    std::string word;
+    long n = 0;
+    in >> word >> n;
+    std::vector<long> refs;
+    for (long i = 0; i < n; ++i) {
+      long a = 0, b = 0, c = 0, ref = 0;
+      in >> a >> b >> c >> ref;
+      refs.push_back(ref);
+    }
+    std::sort(refs.begin(), refs.end());
+    return refs;
+  };
+  EXPECT_EQ(sorted_lines(csg_mesh.substr(0, csg_mesh.find("Triangles"))),
+            sorted_lines(mesh.substr(0, mesh.find("Triangles"))));
+  EXPECT_EQ(references(csg_mesh), references(mesh));
+  EXPECT_CONTAINS(read("m/csg.json"), "\"method\": \"csg\"");
   // The one-line timing summary, always on stderr.
   EXPECT_TRUE(std::regex_search(r.output, std::regex("immerse: .*\\| read [0-9.]+ ms, complex .*search .*mesh ")))
       << r.output;
@@ -318,7 +354,7 @@ TEST_F(CliTest, UsageErrorsExitWith64) {
       "mesh doodle.txt --resolution 10 --background b.mesh",
       "mesh doodle.txt --immersion -1",
       "mesh doodle.txt --immersion 2",  // the curve has immersions 0 and 1 only
-      "mesh doodle.txt --method csg",
+      "mesh doodle.txt --method sketch",
       "generate",
       "generate no-such-curve",
   };
