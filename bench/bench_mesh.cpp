@@ -19,6 +19,7 @@
 
 #include "bench/bench_inputs.h"
 #include "core/graph_search.h"
+#include "core/unglue.h"
 #include "dim2/mesh2.h"
 
 namespace imm::bench {
@@ -100,6 +101,42 @@ BENCHMARK(BM_Mesh2)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(0.2)
     ->Complexity();
+
+/// BM_Mesh2Method/method/resolution: the paper's exact clipping (0) against the CSG baseline (1,
+/// exact Polygon_set_2 booleans of every cut triangle with the regions near it) on the same input
+/// and background; both give the same duplication (tests/dim2/csg_test.cpp).
+void BM_Mesh2Method(benchmark::State& state) {
+  const std::optional<MeshInput>& input = mesh_input();
+  if (!input) {
+    state.SkipWithError("no valid disk set in 64 seeds");
+    return;
+  }
+  dim2::MeshOptions options;
+  options.method = state.range(0) == 1 ? MeshMethod::Csg : MeshMethod::Clip;
+  options.resolution = static_cast<int>(state.range(1));
+  dim2::MeshStats stats;
+  double virtual_triangles = 0.0;
+  for (auto _ : state) {
+    dim2::MeshResult result = dim2::mesh_immersion(*input->built.complex, input->immersion, options);
+    if (!result.report.ok()) {
+      state.SkipWithError("mesh_immersion reported a defect");
+      return;
+    }
+    stats = result.stats;
+    virtual_triangles += stats.seconds_virtual;
+    benchmark::DoNotOptimize(result.mesh.triangles.data());
+  }
+  state.SetLabel(state.range(0) == 1 ? "csg" : "clip");
+  state.counters["background_triangles"] = static_cast<double>(stats.background_triangles);
+  state.counters["cut_triangles"] = static_cast<double>(stats.cut_triangles);
+  state.counters["output_triangles"] = static_cast<double>(stats.output_triangles);
+  state.counters["s_virtual"] = benchmark::Counter(virtual_triangles, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_Mesh2Method)
+    ->ArgNames({"method", "resolution"})
+    ->ArgsProduct({{0, 1}, {32, 128, 512}})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.2);
 
 }  // namespace
 }  // namespace imm::bench
