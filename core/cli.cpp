@@ -168,8 +168,8 @@ overlapping and nearly touching parts are not glued.
 Both:
   --immersion K         which immersion (0-based, in the search's order; default 0)
   --method clip|csg     the paper's exact clipping (default), or the CSG baseline it compares with
-                        (Sifakis et al. 2007: exact polygon booleans per element; same mesh,
-                        slower; 2D only for now)
+                        (Sifakis et al. 2007: exact booleans per element, polygon sets in 2D,
+                        Nef polyhedra in 3D; the same duplication, much slower)
   --max-states N, --time-limit S   search budgets, as for 'immerse immersions'
   --embedding OUT.emb   per input vertex: output element and barycentric weights
   --json OUT            counts (background, cut and output elements, vertices, copies per cell)
@@ -1014,9 +1014,8 @@ int command_mesh(Session& s, const CommandLine& cl) {
   const bool all = cl.has("--all");
   request.max_immersions = all ? 0 : k + 1;
   if (is_surface_file(cl.positional[0])) {
-    if (options.method == MeshMethod::Csg)
-      return usage_error(env, "mesh", "--method csg: the CSG baseline is 2D only for now");
     dim3::MeshOptions3 options3;
+    options3.method = options.method;
     if (options.background_path) options3.background_path = options.background_path;
     if (cl.has("--resolution")) {
       if (options.resolution > kMaxResolution3) {

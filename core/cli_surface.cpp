@@ -545,7 +545,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   o.set("resolution", options.background_path ? Json() : Json(options.resolution));
   o.set("background", options.background_path ? Json(*options.background_path) : Json());
   o.set("threads", options.threads);
-  o.set("method", "clip");
+  o.set("method", options.method == MeshMethod::Csg ? "csg" : "clip");
   Json& meshes = report.set("meshes", Json::array());
   const std::size_t first = all ? 0 : k;
   const std::size_t last = all ? r.immersions.size() : k + 1;

@@ -88,12 +88,20 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
     start = std::chrono::steady_clock::now();
     bool non_generic = false;
     ValidationReport report;
-    local = detail::compute_local_regions3(complex, result.background, shift, options.record_contents,
-                                           options.threads, options.interval_filter, report, non_generic);
+    if (options.method == MeshMethod::Csg) {
+      IMM_ASSERT(shift == (Point3{0, 0, 0}), "the CSG baseline takes no translation");
+      local = detail::compute_local_regions3_csg(complex, result.background, options.record_contents, report,
+                                                 non_generic);
+    } else {
+      local = detail::compute_local_regions3(complex, result.background, shift, options.record_contents,
+                                             options.threads, options.interval_filter, report, non_generic);
+    }
     result.stats.seconds_virtual += seconds_since(start);
     result.stats.attempts = attempt + 1;
     result.stats.input_shift = shift;
-    if (non_generic && attempt + 1 < kMaxAttempts) {
+    // The CSG baseline has no translation: with a read background it reports the contact.
+    const bool can_retry = !(options.method == MeshMethod::Csg && options.background_path);
+    if (non_generic && can_retry && attempt + 1 < kMaxAttempts) {
       log("meshing: " + report.defects.front().message);
       continue;
     }

@@ -12,6 +12,7 @@
 
 #include "core/diagnostics.h"
 #include "core/immersion_graph.h"
+#include "core/unglue.h"
 #include "dim3/complex3.h"
 #include "dim3/tet_mesh.h"
 
@@ -29,6 +30,9 @@ struct MeshOptions3 {
   /// Decide each tet in interval arithmetic first, exactly only where the intervals cannot
   /// (default). False runs every tet with Epeck: slower, the output is identical (tests compare).
   bool interval_filter = true;
+  /// Exact clipping (default) or the CSG baseline (Nef polyhedron booleans per tet, single
+  /// threaded, orders of magnitude slower, the same duplication; for comparisons, Table 2).
+  MeshMethod method = MeshMethod::Clip;
   LogCallback progress;
 };
 

@@ -89,4 +89,13 @@ LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& bac
                                      bool record_embedded, unsigned threads, bool interval_filter,
                                      ValidationReport& report, bool& non_generic);
 
+/// The CSG baseline (Sifakis et al. 2007, the paper's comparison in §7; dim3/virtual_tets_csg.cpp):
+/// the same local regions, fusions, adjacencies and vertex locations as compute_local_regions3
+/// with a zero shift, from exact Nef polyhedron booleans per cut tet (each tet minus the cut
+/// triangles that meet it; the bounded volumes are its local regions). Single-threaded; for
+/// checking and timing the clipping path, not for production. Non-generic contacts set
+/// `non_generic` and add a Touching defect, as there; the result is then incomplete.
+LocalRegions3 compute_local_regions3_csg(const Complex3& complex, const TetMesh& background, bool record_embedded,
+                                         ValidationReport& report, bool& non_generic);
+
 }  // namespace imm::dim3::detail

@@ -1,0 +1,208 @@
+// The CSG baseline (dim3/virtual_tets_csg.cpp: exact Nef booleans per tet, Sifakis et al. 2007)
+// and the clipping path (dim3/virtual_tets.cpp) compute the same duplication of a generated grid
+// background: per tet the same local regions with the same regions, and the same fusions,
+// face adjacencies and input-vertex locations, up to the numbering of local regions within a
+// tet, and the same cut triangles embedded on the same sides. The two share no code beyond the
+// cut mesh, so agreement checks both. The CSG path costs seconds where clipping costs
+// milliseconds (both times are printed), so the inputs and grids are small.
+//
+// Local regions are compared by colour refinement run on both results at once: a local region
+// starts with the colour (tet, region); each round adds the sorted colours of its fusion partners
+// (with the patch and side) and adjacency partners (with the face). Then the multisets of
+// colours, fusions, adjacencies and embedded pieces, in colours, must be equal.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "dim3/generators3.h"
+#include "dim3/mesh3_detail.h"
+#include "dim3/self_connecting.h"
+#include "dim3/tet_mesh.h"
+
+namespace imm::dim3 {
+namespace {
+
+using detail::LocalRegions3;
+
+Box3 surface_box(const Surface& s) {
+  Box3 b{s.vertices.front(), s.vertices.front()};
+  for (const Point3& p : s.vertices)
+    for (int d = 0; d < 3; ++d) {
+      b.lo[d] = std::min(b.lo[d], p[d]);
+      b.hi[d] = std::max(b.hi[d], p[d]);
+    }
+  return b;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Canonical colours of the local regions of both results (same colour space).
+struct Colours {
+  std::vector<std::uint32_t> a, b;
+};
+
+Colours refine(const LocalRegions3& x, const LocalRegions3& y, int rounds) {
+  using Signature = std::vector<std::int64_t>;
+  const auto initial = [](const LocalRegions3& r, std::map<Signature, std::uint32_t>& ids) {
+    std::vector<std::uint32_t> c(r.region.size());
+    for (std::size_t i = 0; i < c.size(); ++i)
+      c[i] = ids.emplace(Signature{r.tet[i], r.region[i].value()}, static_cast<std::uint32_t>(ids.size())).first->second;
+    return c;
+  };
+  std::map<Signature, std::uint32_t> ids;
+  Colours c{initial(x, ids), initial(y, ids)};
+  const auto step = [](const LocalRegions3& r, const std::vector<std::uint32_t>& colour,
+                       std::map<Signature, std::uint32_t>& next) {
+    std::vector<std::vector<std::array<std::int64_t, 5>>> around(r.region.size());
+    for (const auto& f : r.fusions) {
+      around[f.inner].push_back({0, f.patch.value(), colour[f.outer], 0, 0});
+      around[f.outer].push_back({1, f.patch.value(), colour[f.inner], 0, 0});
+    }
+    for (const auto& a : r.adjacencies) {
+      around[a.first].push_back({2, a.face[0], a.face[1], a.face[2], colour[a.second]});
+      around[a.second].push_back({2, a.face[0], a.face[1], a.face[2], colour[a.first]});
+    }
+    std::vector<std::uint32_t> out(r.region.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      std::sort(around[i].begin(), around[i].end());
+      Signature s{colour[i]};
+      for (const auto& e : around[i]) s.insert(s.end(), e.begin(), e.end());
+      out[i] = next.emplace(std::move(s), static_cast<std::uint32_t>(next.size())).first->second;
+    }
+    return out;
+  };
+  for (int k = 0; k < rounds; ++k) {
+    std::map<Signature, std::uint32_t> next;
+    c = {step(x, c.a, next), step(y, c.b, next)};
+  }
+  return c;
+}
+
+using Fusions = std::vector<std::tuple<std::uint32_t, std::uint32_t, std::int64_t>>;
+using Adjacencies = std::vector<std::tuple<std::array<int, 3>, std::uint32_t, std::uint32_t>>;
+
+Fusions fusions_in(const LocalRegions3& r, const std::vector<std::uint32_t>& colour) {
+  Fusions out;
+  for (const auto& f : r.fusions) out.emplace_back(colour[f.inner], colour[f.outer], f.patch.value());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Adjacencies adjacencies_in(const LocalRegions3& r, const std::vector<std::uint32_t>& colour) {
+  Adjacencies out;
+  for (const auto& a : r.adjacencies) {
+    // Ordered by tet: both paths put the smaller tet first, but do not rely on it.
+    std::uint32_t p = a.first, q = a.second;
+    if (r.tet[p] > r.tet[q]) std::swap(p, q);
+    out.emplace_back(a.face, colour[p], colour[q]);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+struct Case {
+  const char* name;
+  std::vector<std::string> args;
+  int resolution;
+};
+
+class CsgBaseline : public testing::TestWithParam<Case> {};
+
+TEST_P(CsgBaseline, SameDuplicationAsClipping) {
+  const Case& c = GetParam();
+  const SurfaceGenerateResult g = generate_surface(c.name, c.args);
+  ASSERT_TRUE(g.ok()) << g.error;
+  ImmerseOptions3 options;
+  options.build.exact_volumes = false;
+  const Immersed3 im = immerse_surface(g.surface, options);
+  ASSERT_TRUE(im.build.report.ok()) << im.build.report.summary();
+  ASSERT_TRUE(im.build.complex != nullptr);
+  ASSERT_FALSE(im.search.immersions.empty());
+  const Complex3& complex = *im.build.complex;
+  const TetMesh background = make_grid_background(surface_box(complex.surface), c.resolution, 0);
+
+  ValidationReport clip_report, csg_report;
+  bool clip_non_generic = false, csg_non_generic = false;
+  auto start = std::chrono::steady_clock::now();
+  const LocalRegions3 clip = detail::compute_local_regions3(complex, background, {0, 0, 0}, /*record_embedded=*/true,
+                                                            /*threads=*/1, /*interval_filter=*/true, clip_report,
+                                                            clip_non_generic);
+  const double clip_seconds = seconds_since(start);
+  start = std::chrono::steady_clock::now();
+  const LocalRegions3 csg =
+      detail::compute_local_regions3_csg(complex, background, /*record_embedded=*/true, csg_report, csg_non_generic);
+  const double csg_seconds = seconds_since(start);
+  std::printf("[ timing ] %s res %d: %zu tets, %zu cut tets, %zu local regions; clipping %.3f s, CSG %.3f s\n",
+              c.name, c.resolution, background.tets.size(), clip.cut_tets, clip.region.size(), clip_seconds,
+              csg_seconds);
+  ASSERT_TRUE(clip_report.ok()) << clip_report.summary();
+  ASSERT_FALSE(clip_non_generic);
+  ASSERT_TRUE(csg_report.ok()) << csg_report.summary();
+  ASSERT_FALSE(csg_non_generic);
+  ASSERT_GT(clip.cut_tets, 0u);
+
+  // Per tet: the same number of local regions, lying in the same regions.
+  ASSERT_EQ(csg.first.size(), clip.first.size());
+  for (std::size_t t = 0; t + 1 < clip.first.size(); ++t) {
+    std::vector<std::int32_t> a, b;
+    for (std::uint32_t i = clip.first[t]; i < clip.first[t + 1]; ++i) a.push_back(clip.region[i].value());
+    for (std::uint32_t i = csg.first[t]; i < csg.first[t + 1]; ++i) b.push_back(csg.region[i].value());
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    ASSERT_EQ(a, b) << "tet " << t;
+  }
+  EXPECT_EQ(csg.cut_tets, clip.cut_tets);
+  EXPECT_EQ(csg.fusions.size(), clip.fusions.size());
+  EXPECT_EQ(csg.adjacencies.size(), clip.adjacencies.size());
+  EXPECT_EQ(csg.embedded.size(), clip.embedded.size());
+
+  // The same connections, up to renumbering within tets.
+  const Colours colour = refine(clip, csg, 4);
+  std::vector<std::uint32_t> a = colour.a, b = colour.b;
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(fusions_in(clip, colour.a), fusions_in(csg, colour.b));
+  EXPECT_EQ(adjacencies_in(clip, colour.a), adjacencies_in(csg, colour.b));
+  const auto embedded_in = [](const LocalRegions3& r, const std::vector<std::uint32_t>& colours) {
+    std::vector<std::tuple<std::uint32_t, std::uint32_t, bool>> out;
+    for (const auto& e : r.embedded) out.emplace_back(colours[e.local_region], e.cut_triangle, e.inner);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  EXPECT_EQ(embedded_in(clip, colour.a), embedded_in(csg, colour.b));
+
+  // Input vertices: the same tet, region, patch and weights.
+  ASSERT_EQ(csg.vertices.size(), clip.vertices.size());
+  for (std::size_t v = 0; v < clip.vertices.size(); ++v) {
+    const auto& p = clip.vertices[v];
+    const auto& q = csg.vertices[v];
+    ASSERT_NE(p.local_region, LocalRegions3::kNone) << "vertex " << v;
+    ASSERT_NE(q.local_region, LocalRegions3::kNone) << "vertex " << v;
+    EXPECT_EQ(clip.tet[p.local_region], csg.tet[q.local_region]) << "vertex " << v;
+    EXPECT_EQ(colour.a[p.local_region], colour.b[q.local_region]) << "vertex " << v;
+    EXPECT_EQ(p.patch, q.patch) << "vertex " << v;
+    EXPECT_EQ(p.weights, q.weights) << "vertex " << v;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Generated, CsgBaseline,
+                         testing::Values(Case{"sphere", {"6"}, 5}, Case{"two-spheres", {"6"}, 5},
+                                         Case{"tube-overlap", {"6"}, 5}, Case{"comb", {"2"}, 5},
+                                         Case{"mouth", {"16"}, 5}, Case{"random-blobs", {"2", "5", "4"}, 5}),
+                         [](const testing::TestParamInfo<Case>& info) {
+                           std::string name = info.param.name;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace imm::dim3
