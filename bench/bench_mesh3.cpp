@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "dim3/generators3.h"
+#include "core/unglue.h"
 #include "dim3/mesh3.h"
 #include "dim3/self_connecting.h"
 #include "dim3/tet_mesh.h"
@@ -302,6 +303,28 @@ BENCHMARK(BM_Mesh3_ClipDoubles)
     ->UseRealTime();
 
 // ---- scaling -----------------------------------------------------------------------------------
+
+/// BM_Mesh3_Method/method/resolution: exact clipping (0) against the CSG baseline (1, Nef
+/// polyhedron booleans per cut tet) on tube_overlap(6) (516 triangles); the same duplication.
+void BM_Mesh3_Method(benchmark::State& state) {
+  static std::string error;
+  static const std::optional<Mesh3Input> input = prepare(dim3::tube_overlap(6), error);
+  if (!input) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  dim3::MeshOptions3 options;
+  options.method = state.range(0) == 1 ? MeshMethod::Csg : MeshMethod::Clip;
+  options.resolution = static_cast<int>(state.range(1));
+  run_mesh(state, *input, options);
+  state.SetLabel(state.range(0) == 1 ? "csg" : "clip");
+}
+BENCHMARK(BM_Mesh3_Method)
+    ->ArgNames({"method", "resolution"})
+    ->ArgsProduct({{0, 1}, {6, 10}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_Mesh3_Resolution(benchmark::State& state) {
   static std::string error;
