@@ -40,6 +40,7 @@
 #include <tuple>
 
 #include "core/union_find.h"
+#include "core/unglue.h"
 #include "dim2/cut_curve.h"
 #include "dim2/kernel.h"
 #include "dim2/mesh2_detail.h"
@@ -472,29 +473,14 @@ class CsgBuilder {
   // ---- regions -------------------------------------------------------------------------
 
   void resolve_regions() {
-    const std::size_t n = out_.region.size();
-    UnionFind same_region(n);
-    for (const auto& adjacency : out_.adjacencies)
-      if (!adjacency.patch.is_valid()) same_region.unite(adjacency.first, adjacency.second);
-    std::vector<RegionId> root_region(n);
-    for (std::uint32_t lr = 0; lr < n; ++lr) {
-      if (!out_.region[lr].is_valid()) continue;
-      RegionId& r = root_region[same_region.find(lr)];
-      IMM_ASSERT(!r.is_valid() || r == out_.region[lr],
-                 "two regions meet across an edge part free of the input");
-      r = out_.region[lr];
-    }
-    for (std::uint32_t lr = 0; lr < n; ++lr) {
-      if (out_.region[lr].is_valid()) continue;
-      RegionId& r = root_region[same_region.find(lr)];
-      if (!r.is_valid()) {
-        const auto tri = triangle_points(out_.triangle[lr]);
-        r = locate(CGAL::centroid(tri[0], tri[1], tri[2]));
-        ++out_.point_locations;
-      }
-      out_.region[lr] = r;
-    }
+    out_.point_locations += resolve_local_regions(
+        out_.region, out_.adjacencies, [](const LocalRegions::Adjacency& a) { return !a.patch.is_valid(); },
+        [&](std::uint32_t lr) {
+          const auto tri = triangle_points(out_.triangle[lr]);
+          return locate(CGAL::centroid(tri[0], tri[1], tri[2]));
+        });
   }
+
 
   /// The region whose polygon set holds q in its interior. @pre q is off the input.
   RegionId locate(const Point_2& q) const {

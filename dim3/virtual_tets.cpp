@@ -57,6 +57,7 @@
 #include <unordered_map>
 
 #include "core/union_find.h"
+#include "core/unglue.h"
 #include "dim3/cut_mesh.h"
 #include "dim3/mesh3_detail.h"
 
@@ -908,26 +909,11 @@ class VirtualTets {
   // ---- regions --------------------------------------------------------------------------------
 
   void resolve_regions() {
-    const std::size_t n = out_.region.size();
-    UnionFind same(n);
-    for (const auto& a : out_.adjacencies) same.unite(a.first, a.second);
-    std::vector<RegionId> root_region(n);
-    for (std::uint32_t lr = 0; lr < n; ++lr) {
-      if (!out_.region[lr].is_valid()) continue;
-      RegionId& r = root_region[same.find(lr)];
-      IMM_ASSERT(!r.is_valid() || r == out_.region[lr], "two regions meet across a face part free of the input");
-      r = out_.region[lr];
-    }
-    for (std::uint32_t lr = 0; lr < n; ++lr) {
-      if (out_.region[lr].is_valid()) continue;
-      RegionId& r = root_region[same.find(lr)];
-      if (!r.is_valid()) {
-        r = locate(out_.tet[lr]);
-        ++out_.point_locations;
-      }
-      out_.region[lr] = r;
-    }
+    out_.point_locations += resolve_local_regions(
+        out_.region, out_.adjacencies, [](const LocalRegions3::Adjacency&) { return true; },
+        [&](std::uint32_t lr) { return locate(out_.tet[lr]); });
   }
+
 
   /// The region holding the centroid of tet t (a tet the input does not meet): the first cut
   /// triangle crossed by an exact segment from it to a point inside some cut triangle.
