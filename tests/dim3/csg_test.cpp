@@ -197,7 +197,10 @@ TEST_P(CsgBaseline, SameDuplicationAsClipping) {
 INSTANTIATE_TEST_SUITE_P(Generated, CsgBaseline,
                          testing::Values(Case{"sphere", {"6"}, 5}, Case{"two-spheres", {"6"}, 5},
                                          Case{"tube-overlap", {"6"}, 5}, Case{"comb", {"2"}, 5},
-                                         Case{"mouth", {"16"}, 5}, Case{"random-blobs", {"2", "5", "4"}, 5}),
+                                         Case{"mouth", {"16"}, 5}, Case{"random-blobs", {"2", "5", "4"}, 5},
+                                         Case{"head", {"16"}, 5}, Case{"helix", {"1", "6"}, 5},
+                                         Case{"tree", {"4"}, 5}, Case{"torus", {"12"}, 5},
+                                         Case{"perturbed-torus", {"12", "1"}, 5}),
                          [](const testing::TestParamInfo<Case>& info) {
                            std::string name = info.param.name;
                            std::replace(name.begin(), name.end(), '-', '_');
