@@ -74,6 +74,29 @@ struct LocalRegions3 {
   std::size_t point_locations = 0;  ///< exact point locations for flood components
 };
 
+/// Barycentric coordinates of point p in tet t of `mesh`, for the .emb output only (never for a
+/// decision): ratios of determinants in long double. Shared by the clipping and CSG paths.
+inline std::array<double, 4> tet_barycentric(const TetMesh& mesh, std::uint32_t t, const Point3& p) {
+  std::array<std::array<long double, 3>, 4> v{};
+  for (int k = 0; k < 4; ++k)
+    for (int d = 0; d < 3; ++d) v[k][d] = mesh.vertices[static_cast<std::size_t>(mesh.tets[t][k])][d];
+  const auto det = [](const std::array<std::array<long double, 3>, 4>& q) {
+    long double a[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int d = 0; d < 3; ++d) a[r][d] = q[r + 1][d] - q[0][d];
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+  };
+  const long double whole = det(v);
+  std::array<double, 4> w{};
+  for (int k = 0; k < 4; ++k) {
+    auto q = v;
+    for (int d = 0; d < 3; ++d) q[k][d] = p[d];
+    w[k] = static_cast<double>(det(q) / whole);
+  }
+  return w;
+}
+
 /// Cuts every tet of `background` by the cut mesh of `complex` translated by `shift` (zero, or
 /// the tiny translation that makes a read background meet the input generically; the embedding
 /// weights then reproduce the translated vertices): exact Sutherland–Hodgman

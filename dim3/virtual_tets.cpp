@@ -668,7 +668,7 @@ class VirtualTets {
       if (out_.vertices[point].local_region != kNone) continue;  // the first tet (in order) wins
       location.local_region += base;
       const Point3& q = c_.surface.vertices[point];
-      location.weights = barycentric(t, {q[0] + shift_[0], q[1] + shift_[1], q[2] + shift_[2]});
+      location.weights = tet_barycentric(bg_, t, {q[0] + shift_[0], q[1] + shift_[1], q[2] + shift_[2]});
       out_.vertices[point] = location;
     }
     for (std::uint32_t x : o.triangles) triangle_has_polygon_[x] = 1;
@@ -676,28 +676,6 @@ class VirtualTets {
       if (o.face_lr[f] != kNone) face_region_[4 * t + f] = base + o.face_lr[f];
   }
 
-  /// Barycentric coordinates of input vertex p in tet t, for the .emb output only (never for a
-  /// decision): ratios of determinants in long double.
-  [[nodiscard]] std::array<double, 4> barycentric(std::uint32_t t, const Point3& p) const {
-    std::array<std::array<long double, 3>, 4> v{};
-    for (int k = 0; k < 4; ++k)
-      for (int d = 0; d < 3; ++d) v[k][d] = bg_.vertices[static_cast<std::size_t>(bg_.tets[t][k])][d];
-    const auto det = [](const std::array<std::array<long double, 3>, 4>& q) {
-      long double a[3][3];
-      for (int r = 0; r < 3; ++r)
-        for (int d = 0; d < 3; ++d) a[r][d] = q[r + 1][d] - q[0][d];
-      return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-    };
-    const long double whole = det(v);
-    std::array<double, 4> w{};
-    for (int k = 0; k < 4; ++k) {
-      auto q = v;
-      for (int d = 0; d < 3; ++d) q[k][d] = p[d];
-      w[k] = static_cast<double>(det(q) / whole);
-    }
-    return w;
-  }
 
 
   // ---- which side of a piece -----------------------------------------------------------------

@@ -439,7 +439,7 @@ class CsgTets {
                                      corner(x, k)) == CGAL::POSITIVE;
         if (!inside) continue;
         const Point3& q = c_.surface.vertices[point];
-        out_.vertices[point] = {base + inner, patch(x), barycentric(t, q)};
+        out_.vertices[point] = {base + inner, patch(x), tet_barycentric(bg_, t, q)};
       }
     }
     for (RegionId r : regions) {
@@ -494,28 +494,6 @@ class CsgTets {
     for (int f = 0; f < 4; ++f) IMM_ASSERT(!parts_[4 * t + static_cast<std::size_t>(f)].empty(), "a tet face without parts");
   }
 
-  /// Barycentric coordinates of input vertex p in tet t, for the .emb output only: ratios of
-  /// determinants in long double (as dim3/virtual_tets.cpp).
-  [[nodiscard]] std::array<double, 4> barycentric(std::uint32_t t, const Point3& p) const {
-    std::array<std::array<long double, 3>, 4> v{};
-    for (int k = 0; k < 4; ++k)
-      for (int d = 0; d < 3; ++d) v[k][d] = bg_.vertices[static_cast<std::size_t>(bg_.tets[t][k])][d];
-    const auto det = [](const std::array<std::array<long double, 3>, 4>& q) {
-      long double a[3][3];
-      for (int r = 0; r < 3; ++r)
-        for (int d = 0; d < 3; ++d) a[r][d] = q[r + 1][d] - q[0][d];
-      return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-             a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-    };
-    const long double whole = det(v);
-    std::array<double, 4> w{};
-    for (int k = 0; k < 4; ++k) {
-      auto q = v;
-      for (int d = 0; d < 3; ++d) q[k][d] = p[d];
-      w[k] = static_cast<double>(det(q) / whole);
-    }
-    return w;
-  }
 
   // ---- faces ----------------------------------------------------------------------------------
 
