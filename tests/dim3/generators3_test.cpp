@@ -17,6 +17,8 @@
 #include <numeric>
 #include <set>
 
+#include "dim3/self_connecting.h"
+
 namespace imm::dim3 {
 namespace {
 
@@ -166,7 +168,7 @@ TEST(SurfaceGenerators, RegistryIsConsistent) {
     }
   }
   for (const char* required :
-       {"sphere", "torus", "two-spheres", "tube-overlap", "helix", "double-loop-torus",
+       {"sphere", "torus", "two-spheres", "two-tori", "tube-overlap", "helix", "double-loop-torus",
         "sacht-torus", "quintuple-torus", "tree", "head", "limacon-torus", "figure-eight-torus",
         "poke-through", "comb", "mouth", "random-blobs", "perturbed-torus"}) {
     EXPECT_NE(find_surface_generator(required), nullptr) << required;
@@ -219,6 +221,8 @@ TEST(SurfaceGenerators, EveryGeneratorGivesAValidGenericOutwardMesh) {
            {"sacht-torus", {"12"}},
            {"sphere", {"3"}},
            {"torus", {"6"}},
+           {"two-tori", {"3"}},
+           {"two-tori", {"4"}},
            {"helix", {"1", "6"}},
            {"double-loop-torus", {"8"}},
            {"head", {"16"}},
@@ -248,6 +252,14 @@ TEST(SurfaceGenerators, TriangleCountsFollowTheDocumentedFormulas) {
     EXPECT_EQ(torus(int(n)).triangle_count(), std::size_t(2 * n * (n / 2)));
   for (long n : {3L, 10L})
     EXPECT_EQ(two_spheres(int(n)).triangle_count(), std::size_t(8 * n * (n - 1)));
+  for (long n : {3L, 8L, 13L, 32L}) {  // 2 n^2 per torus: n = 32 gives the 4,096
+    const Surface s = make("two-tori", {std::to_string(n)});
+    EXPECT_EQ(s.triangle_count(), std::size_t(4 * n * n));
+    std::size_t components = 0;
+    triangle_components(s, &components);
+    EXPECT_EQ(components, 2u);
+  }
+  EXPECT_EQ(make("two-tori").triangle_count(), 4096u);
   for (long s : {6L, 13L})
     EXPECT_EQ(tube_overlap(int(s)).triangle_count(), std::size_t(2 * s * (6 * s + 7)));
   for (long loops : {1L, 3L, 10L})
@@ -335,6 +347,11 @@ TEST(SurfaceGenerators, IntersectionLoopsMatchTheExpectedArcs) {
       {"sphere", {}, 0, 0, 1},
       {"torus", {}, 0, 0, 1},
       {"two-spheres", {}, 1, 0, 2},
+      {"two-tori", {}, 2, 0, 2},
+      {"two-tori", {"4"}, 2, 0, 2},  // (at n = 3 the chaining of crossing pairs above
+                                     // joins the two loops; the complex test below covers it)
+      {"two-tori", {"8"}, 2, 0, 2},
+      {"two-tori", {"13"}, 2, 0, 2},
       {"tube-overlap", {}, 1, 0, 2},
       {"helix", {"3", "12"}, 1, 0, 2},
       {"helix", {"1", "10"}, 1, 0, 2},
@@ -378,6 +395,13 @@ TEST(SurfaceGenerators, WindingNumbersAtChosenPoints) {
       {"two-spheres", {0.6, 0.035, 0.02}, 2},
       {"two-spheres", {-0.5, 0, 0}, 1},
       {"two-spheres", {1.7, 0.07, 0.04}, 1},
+      {"two-tori", {0.44, 0.898, 0.075}, 2},  // the two tubes' crossings
+      {"two-tori", {0.56, -0.828, 0.075}, 2},
+      {"two-tori", {-1, 0, 0}, 1},          // the first tube only
+      {"two-tori", {2, 0.07, 0.15}, 1},     // the second tube only
+      {"two-tori", {-0.5, 0, 0}, 0},        // the first hole
+      {"two-tori", {0.5, 0.035, 0}, 0},     // both holes
+      {"two-tori", {0.44, 0.898, 0.7}, 0},  // above a crossing
       {"tube-overlap", {0, 1.6376, 0}, 2},  // where the path passes over itself
       {"helix", {-1, 0, 0.4}, 2},           // between the first two turns
       {"helix", {-1, 0, 0.05}, 1},
@@ -408,6 +432,35 @@ TEST(SurfaceGenerators, WindingNumbersAtChosenPoints) {
     SCOPED_TRACE(p.name + " at (" + std::to_string(p.point[0]) + ", " + std::to_string(p.point[1]) +
                  ", " + std::to_string(p.point[2]) + ")");
     EXPECT_EQ(winding_number(make(p.name), p.point), p.winding);
+  }
+}
+
+TEST(SurfaceGenerators, TwoToriCountsMatchTheComplexAndTheSearch) {
+  // The whole hand derivation (dim3/generators3.cpp, two_tori) against the exact cell complex
+  // and the exhaustive search: every size up to 8 (the coarse meshes are where it could break),
+  // a few more and the default (4,096 triangles).
+  for (const char* n : {"3", "4", "5", "6", "7", "8", "11", "16", "32"}) {
+    SCOPED_TRACE(n);
+    const ExpectedSurfaceCounts e = expected_surface_counts("two-tori", {n});
+    ASSERT_TRUE(e.error.empty()) << e.error;
+    ImmerseOptions3 options;
+    options.build.exact_volumes = false;
+    options.search.max_immersions = 0;  // all of them
+    const Immersed3 im = immerse_surface(make("two-tori", {n}), options);
+    ASSERT_TRUE(im.build.report.ok()) << im.build.report.summary();
+    ASSERT_FALSE(im.build.inversion.has_value());
+    ASSERT_TRUE(im.build.complex);
+    const CellComplex<3>& c = im.build.complex->complex;
+    EXPECT_EQ(static_cast<long>(c.region_count()), e.regions);
+    EXPECT_EQ(static_cast<long>(c.cell_count()), e.cells);
+    EXPECT_EQ(static_cast<long>(c.patch_count()), e.patches);
+    EXPECT_EQ(static_cast<long>(c.arc_count()), e.arcs);
+    EXPECT_EQ(im.build.complex->triple_points, 0u);
+    EXPECT_EQ(c.max_winding_number(), e.max_winding);
+    EXPECT_TRUE(im.helper_boxes.empty());  // no self-connecting cell
+    EXPECT_FALSE(e.self_connecting);
+    EXPECT_TRUE(im.search.complete);
+    EXPECT_EQ(static_cast<long>(im.search.immersions.size()), e.immersions);
   }
 }
 
