@@ -25,38 +25,13 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
-                          const MeshOptions& options) {
-  MeshResult result;
+namespace detail {
+
+void assemble(const Complex2& complex, const Immersion& immersion, const Background& background,
+              const LocalRegions& local, bool record_contents, MeshResult& result) {
   const CellComplex<2>& cc = complex.complex;
   const NodeLayout& layout = immersion.layout;
-  const auto log = [&](const std::string& message) {
-    if (options.progress) options.progress(message);
-  };
-
-  // 1. Background.
-  auto start = std::chrono::steady_clock::now();
-  const detail::Background background = detail::make_background(complex, options, result.report);
-  result.stats.seconds_background = seconds_since(start);
-  if (!result.report.ok()) return result;
-  result.stats.background_triangles = background.triangles.size();
-  result.background.vertices = background.vertices;
-  result.background.triangles = background.triangles;
-  log("meshing: " + std::to_string(background.triangles.size()) + " background triangles");
-
-  // 2. Local regions (virtual triangles).
-  start = std::chrono::steady_clock::now();
-  const detail::LocalRegions local =
-      options.method == MeshMethod::Csg
-          ? detail::compute_local_regions_csg(complex, background, options.record_contents, result.report)
-          : detail::compute_local_regions(complex, background, options.record_contents, result.report);
-  result.stats.seconds_virtual = seconds_since(start);
-  result.stats.cut_triangles = local.cut_triangles;
-  if (!result.report.ok()) return result;
-  log("meshing: " + std::to_string(local.cut_triangles) + " cut triangles");
-
   // 3. Atoms, fusions and adjacencies for the driver.
-  start = std::chrono::steady_clock::now();
   std::vector<std::array<std::int32_t, 3>> elements;
   elements.reserve(background.triangles.size());
   for (const auto& t : background.triangles) elements.push_back({t[0], t[1], t[2]});
@@ -102,7 +77,7 @@ MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
     result.embedding[v] = {static_cast<int>(unglued.atom_copy[atom]), location.weights};
   }
 
-  if (options.record_contents) {
+  if (record_contents) {
     result.contents.resize(unglued.copies.size());
     for (std::uint32_t a = 0; a < input.atoms.size(); ++a) {
       const UnglueAtom& atom = input.atoms[a];
@@ -120,8 +95,43 @@ MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
       s.erase(std::unique(s.begin(), s.end()), s.end());
     }
   }
+}
+
+}  // namespace detail
+
+MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
+                          const MeshOptions& options) {
+  MeshResult result;
+  const auto log = [&](const std::string& message) {
+    if (options.progress) options.progress(message);
+  };
+
+  // 1. Background.
+  auto start = std::chrono::steady_clock::now();
+  const detail::Background background = detail::make_background(complex, options, result.report);
+  result.stats.seconds_background = seconds_since(start);
+  if (!result.report.ok()) return result;
+  result.stats.background_triangles = background.triangles.size();
+  result.background.vertices = background.vertices;
+  result.background.triangles = background.triangles;
+  log("meshing: " + std::to_string(background.triangles.size()) + " background triangles");
+
+  // 2. Local regions (virtual triangles).
+  start = std::chrono::steady_clock::now();
+  const detail::LocalRegions local =
+      options.method == MeshMethod::Csg
+          ? detail::compute_local_regions_csg(complex, background, options.record_contents, result.report)
+          : detail::compute_local_regions(complex, background, options.record_contents, result.report);
+  result.stats.seconds_virtual = seconds_since(start);
+  result.stats.cut_triangles = local.cut_triangles;
+  if (!result.report.ok()) return result;
+  log("meshing: " + std::to_string(local.cut_triangles) + " cut triangles");
+
+  // 3.-5. Atoms, duplicate and connect, embedding.
+  start = std::chrono::steady_clock::now();
+  detail::assemble(complex, immersion, background, local, options.record_contents, result);
   result.stats.seconds_assembly = seconds_since(start);
-  log("meshing: " + std::to_string(mesh.triangles.size()) + " output triangles");
+  log("meshing: " + std::to_string(result.mesh.triangles.size()) + " output triangles");
   return result;
 }
 

@@ -1,5 +1,5 @@
 // Internal interfaces between the three translation units of 2D meshing (not installed, not for
-// callers outside dim2/):
+// callers outside dim2/, except the stage benchmarks in bench/):
 //  - dim2/background.cpp       builds or reads the background triangulation (CGAL CDT + mesher);
 //  - dim2/virtual_triangles.cpp cuts every background triangle by the input exactly and returns
 //                               its local regions and how they connect (CGAL arrangements);
@@ -95,5 +95,13 @@ LocalRegions compute_local_regions(const Complex2& complex, const Background& ba
 /// nearby region of the complex with the triangle. Meshing uses it with MeshOptions::method = Csg.
 LocalRegions compute_local_regions_csg(const Complex2& complex, const Background& background,
                                        bool record_pieces, ValidationReport& report);
+
+/// The assembly stage of meshing (dim2/mesh2.cpp): one atom per graph node per local region,
+/// fused across the immersion graph's edges, duplicated and connected by unglue<2>, input
+/// vertices embedded. Fills result.mesh, background_triangle, embedding, contents (when
+/// `record_contents`; `local` must then hold the inner pieces) and the output counts of
+/// result.stats. @pre `local` was computed on `background`.
+void assemble(const Complex2& complex, const Immersion& immersion, const Background& background,
+              const LocalRegions& local, bool record_contents, MeshResult& result);
 
 }  // namespace imm::dim2::detail

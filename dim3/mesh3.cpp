@@ -39,88 +39,14 @@ Box3 input_box(const Surface& s) {
 
 }  // namespace
 
-MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion, const MeshOptions3& options,
-                            std::size_t input_vertices, std::size_t input_triangles) {
-  MeshResult3 result;
+namespace detail {
+
+void assemble3(const Complex3& complex, const Immersion& immersion, const TetMesh& background,
+               const LocalRegions3& local, std::size_t input_vertices, std::size_t input_triangles,
+               bool record_contents, MeshResult3& result) {
   const CellComplex<3>& cc = complex.complex;
   const NodeLayout& layout = immersion.layout;
-  const auto log = [&](const std::string& message) {
-    if (options.progress) options.progress(message);
-  };
-  IMM_ASSERT(options.resolution >= 1, "resolution must be at least 1");
-  input_vertices = std::min(input_vertices, complex.surface.vertex_count());
-
-  // 1-2. Background and local regions. A contact of the input with the background that is not
-  // generic is avoided, never guessed: a generated grid is shifted and rebuilt; a read background
-  // is kept and the input is translated relative to it by a tiny explicit vector (about 2^-32 of
-  // the input's diagonal), for which every decision is again exact.
-  auto start = std::chrono::steady_clock::now();
-  const Box3 box = input_box(complex.surface);
-  if (options.background_path) {
-    TetReadResult read = read_tet_mesh(*options.background_path);
-    result.report = std::move(read.report);
-    result.background = std::move(read.mesh);
-    if (read.reoriented > 0)
-      log("meshing: " + std::to_string(read.reoriented) + " background tets were negatively oriented and turned");
-    if (!result.report.ok()) return result;
-  }
-  result.stats.seconds_background += seconds_since(start);
-  detail::LocalRegions3 local;
-  double diagonal = 0.0;
-  for (int d = 0; d < 3; ++d) diagonal += (box.hi[d] - box.lo[d]) * (box.hi[d] - box.lo[d]);
-  diagonal = std::sqrt(diagonal);
-  for (int attempt = 0;; ++attempt) {
-    start = std::chrono::steady_clock::now();
-    Point3 shift{0, 0, 0};
-    if (!options.background_path) {
-      result.background = make_grid_background(box, options.resolution, attempt);
-    } else if (attempt > 0) {
-      const double step = std::ldexp(diagonal, -32) * attempt;
-      shift = {step, step * 0.6180339887498949, step * 0.41421356237309503};
-    }
-    result.stats.seconds_background += seconds_since(start);
-    result.stats.background_tets = result.background.tets.size();
-    log("meshing: " + std::to_string(result.background.tets.size()) + " background tets" +
-        (attempt > 0 ? (options.background_path ? " (input shifted by " + format_point(shift) + ")"
-                                                : " (grid shifted, attempt " + std::to_string(attempt + 1) + ")")
-                     : ""));
-
-    start = std::chrono::steady_clock::now();
-    bool non_generic = false;
-    ValidationReport report;
-    if (options.method == MeshMethod::Csg) {
-      IMM_ASSERT(shift == (Point3{0, 0, 0}), "the CSG baseline takes no translation");
-      local = detail::compute_local_regions3_csg(complex, result.background, options.record_contents, report,
-                                                 non_generic);
-    } else {
-      local = detail::compute_local_regions3(complex, result.background, shift, options.record_contents,
-                                             options.threads, options.interval_filter, report, non_generic);
-    }
-    result.stats.seconds_virtual += seconds_since(start);
-    result.stats.attempts = attempt + 1;
-    result.stats.input_shift = shift;
-    // The CSG baseline has no translation: with a read background it reports the contact.
-    const bool can_retry = !(options.method == MeshMethod::Csg && options.background_path);
-    if (non_generic && can_retry && attempt + 1 < kMaxAttempts) {
-      log("meshing: " + report.defects.front().message);
-      continue;
-    }
-    result.report = std::move(report);
-    break;
-  }
-  result.stats.candidate_pairs = local.candidate_pairs;
-  result.stats.polygons = local.polygons;
-  result.stats.pieces = local.pieces;
-  result.stats.cut_tets = local.cut_tets;
-  result.stats.side_tests = local.side_tests;
-  result.stats.exact_tets = local.exact_tets;
-  if (!result.report.ok()) return result;
-  log("meshing: " + std::to_string(local.polygons) + " clipped polygons, " + std::to_string(local.cut_tets) +
-      " cut tets");
-
   // 3. Atoms, fusions and adjacencies for the driver.
-  start = std::chrono::steady_clock::now();
-  const TetMesh& background = result.background;
   std::vector<std::array<std::int32_t, 4>> elements;
   elements.reserve(background.tets.size());
   for (const Tet& t : background.tets) elements.push_back({t[0], t[1], t[2], t[3]});
@@ -195,7 +121,7 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
     result.embedding[v] = {static_cast<int>(copy), location.weights};
   }
 
-  if (options.record_contents) {
+  if (record_contents) {
     result.contents.resize(mesh.tets.size());
     for (std::uint32_t a = 0; a < input.atoms.size(); ++a) {
       const UnglueAtom& atom = input.atoms[a];
@@ -216,9 +142,94 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
       s.erase(std::unique(s.begin(), s.end()), s.end());
     }
   }
+}
+
+}  // namespace detail
+
+MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion, const MeshOptions3& options,
+                            std::size_t input_vertices, std::size_t input_triangles) {
+  MeshResult3 result;
+  const auto log = [&](const std::string& message) {
+    if (options.progress) options.progress(message);
+  };
+  IMM_ASSERT(options.resolution >= 1, "resolution must be at least 1");
+  input_vertices = std::min(input_vertices, complex.surface.vertex_count());
+
+  // 1-2. Background and local regions. A contact of the input with the background that is not
+  // generic is avoided, never guessed: a generated grid is shifted and rebuilt; a read background
+  // is kept and the input is translated relative to it by a tiny explicit vector (about 2^-32 of
+  // the input's diagonal), for which every decision is again exact.
+  auto start = std::chrono::steady_clock::now();
+  const Box3 box = input_box(complex.surface);
+  if (options.background_path) {
+    TetReadResult read = read_tet_mesh(*options.background_path);
+    result.report = std::move(read.report);
+    result.background = std::move(read.mesh);
+    if (read.reoriented > 0)
+      log("meshing: " + std::to_string(read.reoriented) + " background tets were negatively oriented and turned");
+    if (!result.report.ok()) return result;
+  }
+  result.stats.seconds_background += seconds_since(start);
+  detail::LocalRegions3 local;
+  double diagonal = 0.0;
+  for (int d = 0; d < 3; ++d) diagonal += (box.hi[d] - box.lo[d]) * (box.hi[d] - box.lo[d]);
+  diagonal = std::sqrt(diagonal);
+  for (int attempt = 0;; ++attempt) {
+    start = std::chrono::steady_clock::now();
+    Point3 shift{0, 0, 0};
+    if (!options.background_path) {
+      result.background = make_grid_background(box, options.resolution, attempt);
+    } else if (attempt > 0) {
+      const double step = std::ldexp(diagonal, -32) * attempt;
+      shift = {step, step * 0.6180339887498949, step * 0.41421356237309503};
+    }
+    result.stats.seconds_background += seconds_since(start);
+    result.stats.background_tets = result.background.tets.size();
+    log("meshing: " + std::to_string(result.background.tets.size()) + " background tets" +
+        (attempt > 0 ? (options.background_path ? " (input shifted by " + format_point(shift) + ")"
+                                                : " (grid shifted, attempt " + std::to_string(attempt + 1) + ")")
+                     : ""));
+
+    start = std::chrono::steady_clock::now();
+    bool non_generic = false;
+    ValidationReport report;
+    if (options.method == MeshMethod::Csg) {
+      IMM_ASSERT(shift == (Point3{0, 0, 0}), "the CSG baseline takes no translation");
+      local = detail::compute_local_regions3_csg(complex, result.background, options.record_contents, options.threads,
+                                                 options.progress, report, non_generic);
+    } else {
+      local = detail::compute_local_regions3(complex, result.background, shift, options.record_contents,
+                                             options.threads, options.interval_filter, report, non_generic);
+    }
+    result.stats.seconds_virtual += seconds_since(start);
+    result.stats.attempts = attempt + 1;
+    result.stats.input_shift = shift;
+    // The CSG baseline has no translation: with a read background it reports the contact.
+    const bool can_retry = !(options.method == MeshMethod::Csg && options.background_path);
+    if (non_generic && can_retry && attempt + 1 < kMaxAttempts) {
+      log("meshing: " + report.defects.front().message);
+      continue;
+    }
+    result.report = std::move(report);
+    break;
+  }
+  result.stats.candidate_pairs = local.candidate_pairs;
+  result.stats.polygons = local.polygons;
+  result.stats.pieces = local.pieces;
+  result.stats.cut_tets = local.cut_tets;
+  result.stats.side_tests = local.side_tests;
+  result.stats.exact_tets = local.exact_tets;
+  if (!result.report.ok()) return result;
+  log("meshing: " + std::to_string(local.polygons) + " clipped polygons, " + std::to_string(local.cut_tets) +
+      " cut tets");
+
+  // 3.-5. Atoms, duplicate and connect, embedding.
+  start = std::chrono::steady_clock::now();
+  detail::assemble3(complex, immersion, result.background, local, input_vertices, input_triangles,
+                    options.record_contents, result);
   result.stats.seconds_assembly = seconds_since(start);
-  log("meshing: " + std::to_string(mesh.tets.size()) + " output tets, " + std::to_string(mesh.vertices.size()) +
-      " vertices");
+  log("meshing: " + std::to_string(result.mesh.tets.size()) + " output tets, " +
+      std::to_string(result.mesh.vertices.size()) + " vertices");
   return result;
 }
 

@@ -25,13 +25,14 @@ struct MeshOptions3 {
   std::optional<std::string> background_path;
   /// Fill MeshResult3::contents (what every output tet holds; for tests and diagnostics).
   bool record_contents = false;
-  /// Threads for the virtual tets (0 = all cores). The output is identical for every value.
+  /// Threads for the virtual tets, clipping or CSG (0 = all cores). The output is identical for
+  /// every value.
   unsigned threads = 0;
   /// Decide each tet in interval arithmetic first, exactly only where the intervals cannot
   /// (default). False runs every tet with Epeck: slower, the output is identical (tests compare).
   bool interval_filter = true;
-  /// Exact clipping (default) or the CSG baseline (Nef polyhedron booleans per tet, single
-  /// threaded, orders of magnitude slower, the same duplication; for comparisons, Table 2).
+  /// Exact clipping (default) or the CSG baseline (Nef polyhedron booleans per tet, orders of
+  /// magnitude slower, the same duplication; for comparisons, Table 2).
   MeshMethod method = MeshMethod::Clip;
   LogCallback progress;
 };

@@ -1,5 +1,5 @@
-// Internal interface between the two translation units of 3D meshing (not for callers outside
-// dim3/):
+// Internal interface between the translation units of 3D meshing (not for callers outside dim3/,
+// except the stage benchmarks in bench/):
 //  - dim3/virtual_tets.cpp cuts every background tet by the cut mesh exactly and returns its
 //                          local regions and how they connect (CGAL Epeck inside);
 //  - dim3/mesh3.cpp        expands local regions into per-node atoms and runs the
@@ -15,6 +15,7 @@
 #include "core/diagnostics.h"
 #include "core/ids.h"
 #include "dim3/complex3.h"
+#include "dim3/mesh3.h"
 #include "dim3/tet_mesh.h"
 
 namespace imm::dim3::detail {
@@ -115,10 +116,23 @@ LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& bac
 /// The CSG baseline (Sifakis et al. 2007, the paper's comparison in §7; dim3/virtual_tets_csg.cpp):
 /// the same local regions, fusions, adjacencies and vertex locations as compute_local_regions3
 /// with a zero shift, from exact Nef polyhedron booleans per cut tet (each tet minus the cut
-/// triangles that meet it; the bounded volumes are its local regions). Single-threaded; for
-/// checking and timing the clipping path, not for production. Non-generic contacts set
-/// `non_generic` and add a Touching defect, as there; the result is then incomplete.
+/// triangles that meet it; the bounded volumes are its local regions), on `threads` threads
+/// (0 = all cores; merged in tet order as there, so the result does not depend on it). For
+/// checking and timing the clipping path, not for production; `progress` (may be empty) hears
+/// every few seconds how far it got. Non-generic contacts set `non_generic` and add a Touching
+/// defect, as there; the result is then incomplete.
 LocalRegions3 compute_local_regions3_csg(const Complex3& complex, const TetMesh& background, bool record_embedded,
-                                         ValidationReport& report, bool& non_generic);
+                                         unsigned threads, const LogCallback& progress, ValidationReport& report,
+                                         bool& non_generic);
+
+/// The assembly stage of meshing (dim3/mesh3.cpp): one atom per graph node per local region,
+/// fused across the immersion graph's edges, duplicated and connected by unglue<3>, helper-box
+/// solids dropped, input vertices embedded. Fills result.mesh, background_tet, embedding,
+/// contents (when `record_contents`; `local` must then hold the embedded pieces) and the output
+/// counts of result.stats; an input vertex the background does not cover adds a NotCovered
+/// defect. @pre `local` was computed on `background`.
+void assemble3(const Complex3& complex, const Immersion& immersion, const TetMesh& background,
+               const LocalRegions3& local, std::size_t input_vertices, std::size_t input_triangles,
+               bool record_contents, MeshResult3& result);
 
 }  // namespace imm::dim3::detail

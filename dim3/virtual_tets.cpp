@@ -56,6 +56,7 @@
 #include <type_traits>
 #include <unordered_map>
 
+#include "core/parallel.h"
 #include "core/union_find.h"
 #include "core/unglue.h"
 #include "dim3/cut_mesh.h"
@@ -175,7 +176,7 @@ class VirtualTets {
     std::atomic<std::size_t> exact_tets{0};
     for (std::size_t first = 0; first < bg_.tets.size(); first += kBlock) {
       const std::size_t count = std::min(kBlock, bg_.tets.size() - first);
-      parallel_for(count, [&](std::size_t i, unsigned worker) {
+      parallel_for(threads_, count, [&](std::size_t i, unsigned worker) {
         const auto t = static_cast<std::uint32_t>(first + i);
         block[i] = TetOut();
         if (cand_first[t] == cand_first[t + 1]) {
@@ -210,35 +211,6 @@ class VirtualTets {
   }
 
  private:
-  /// Runs body(i, worker) for i in [0, count) on threads_ threads (dynamic scheduling); the first
-  /// exception is rethrown on the calling thread.
-  template <class Body>
-  void parallel_for(std::size_t count, const Body& body, std::size_t grain = 64) const {
-    const unsigned workers = static_cast<unsigned>(std::min<std::size_t>(threads_, (count + grain - 1) / grain));
-    if (workers <= 1) {
-      for (std::size_t i = 0; i < count; ++i) body(i, 0);
-      return;
-    }
-    std::atomic<std::size_t> next{0};
-    std::vector<std::exception_ptr> errors(workers);
-    std::vector<std::thread> pool;
-    for (unsigned w = 0; w < workers; ++w) {
-      pool.emplace_back([&, w] {
-        try {
-          const std::size_t step = std::min<std::size_t>(grain, 16);
-          for (std::size_t i; (i = next.fetch_add(step)) < count;)
-            for (std::size_t j = i; j < std::min(count, i + step); ++j) body(j, w);
-        } catch (...) {
-          errors[w] = std::current_exception();
-          next = count;
-        }
-      });
-    }
-    for (std::thread& th : pool) th.join();
-    for (const std::exception_ptr& e : errors)
-      if (e) std::rethrow_exception(e);
-  }
-
   // ---- set-up --------------------------------------------------------------------------------
 
   [[nodiscard]] const Point& corner(std::uint32_t cut_triangle, int k) const {
@@ -325,7 +297,7 @@ class VirtualTets {
     }
     const std::size_t slices = std::min<std::size_t>(threads_, 1 + m_.triangles.size() / 4096);
     std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(slices);
-    parallel_for(slices, [&](std::size_t slice, unsigned) {
+    parallel_for(threads_, slices, [&](std::size_t slice, unsigned) {
       std::vector<std::uint32_t> seen(tet_count, std::numeric_limits<std::uint32_t>::max());
       const std::size_t begin = m_.triangles.size() * slice / slices;
       const std::size_t end = m_.triangles.size() * (slice + 1) / slices;
@@ -991,7 +963,7 @@ LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& bac
                                      bool record_embedded, unsigned threads, bool interval_filter,
                                      ValidationReport& report, bool& non_generic) {
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = resolve_threads(threads);
   return VirtualTets(complex, background, shift, record_embedded, threads, interval_filter, report, non_generic)
       .run();
 }

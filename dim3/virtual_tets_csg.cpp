@@ -23,6 +23,9 @@
 // an input facet follow by union-find over the adjacencies, as in dim3/virtual_tets.cpp; a
 // component without any is located by an exact segment to a cut triangle.
 //
+// Tets run on threads in blocks, merged in tet order as in dim3/virtual_tets.cpp, so both methods
+// are timed on the same number of threads and the result does not depend on it.
+//
 // Nothing here is rounded except the barycentric weights of the output; no epsilon is used.
 // Non-generic contacts (an input vertex on a tet face, an input edge meeting a tet edge, a tet
 // vertex or edge on the input) are detected exactly and reported as Touching defects.
@@ -33,10 +36,12 @@
 #include <CGAL/box_intersection_d.h>
 
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <optional>
 #include <unordered_map>
 
+#include "core/parallel.h"
 #include "core/union_find.h"
 #include "core/unglue.h"
 #include "dim3/cut_mesh.h"
@@ -130,11 +135,23 @@ int part_side(const FacePart& part, const Point2& p) {
   return 1;
 }
 
+/// What one tet contributes, with its local regions numbered from 0; merged in tet order.
+struct TetOut {
+  std::vector<RegionId> regions;
+  std::vector<LocalRegions3::Fusion> fusions;
+  std::vector<LocalRegions3::Embedded> embedded;
+  std::vector<std::pair<std::uint32_t, LocalRegions3::VertexLocation>> vertices;  ///< input vertex, location
+  std::vector<std::uint32_t> met;                ///< cut triangles that meet the open tet
+  std::array<std::vector<FacePart>, 4> parts;    ///< per face of the tet
+  std::optional<Defect> touching;                ///< a non-generic contact (the tet is then incomplete)
+};
+
 class CsgTets {
  public:
-  CsgTets(const Complex3& complex, const TetMesh& background, bool record, ValidationReport& report,
-          bool& non_generic)
-      : c_(complex), m_(*complex.exact), bg_(background), record_(record), report_(report), non_generic_(non_generic) {}
+  CsgTets(const Complex3& complex, const TetMesh& background, bool record, unsigned threads, const LogCallback& progress,
+          ValidationReport& report, bool& non_generic)
+      : c_(complex), m_(*complex.exact), bg_(background), record_(record), threads_(threads), progress_(progress),
+        report_(report), non_generic_(non_generic) {}
 
   LocalRegions3 run() {
     non_generic_ = false;
@@ -145,12 +162,36 @@ class CsgTets {
     out_.first.reserve(bg_.tets.size() + 1);
     parts_.resize(4 * bg_.tets.size());
     triangle_met_.assign(m_.triangles.size(), 0);
-    std::size_t c = 0;
-    for (std::uint32_t t = 0; t < bg_.tets.size(); ++t) {
-      const std::size_t begin = c;
-      while (c < candidates_.size() && candidates_[c].first == t) ++c;
-      process_tet(t, begin, c);
-      if (non_generic_) return std::move(out_);
+    std::vector<std::size_t> cand_first(bg_.tets.size() + 1, 0);
+    for (const auto& c : candidates_) ++cand_first[c.first + 1];
+    for (std::size_t t = 0; t < bg_.tets.size(); ++t) cand_first[t + 1] += cand_first[t];
+    // Tets are independent: blocks of them run on the threads (one tet at a time: a cut tet costs
+    // milliseconds) and are merged in tet order, so the result does not depend on the thread count.
+    constexpr std::size_t kBlock = 128;
+    std::vector<TetOut> block(kBlock);
+    const auto start = std::chrono::steady_clock::now();
+    auto last_report = start;
+    for (std::size_t first = 0; first < bg_.tets.size(); first += kBlock) {
+      const std::size_t count = std::min(kBlock, bg_.tets.size() - first);
+      parallel_for(
+          threads_, count,
+          [&](std::size_t i, unsigned) {
+            const auto t = static_cast<std::uint32_t>(first + i);
+            block[i] = TetOut();
+            process_tet(t, cand_first[t], cand_first[t + 1], block[i]);
+          },
+          /*grain=*/1);
+      for (std::size_t i = 0; i < count; ++i) {
+        merge(static_cast<std::uint32_t>(first + i), block[i]);
+        if (non_generic_) return std::move(out_);
+      }
+      const auto now = std::chrono::steady_clock::now();
+      if (progress_ && now - last_report > std::chrono::seconds(5)) {
+        last_report = now;
+        progress_("CSG booleans: " + std::to_string(first + count) + " of " + std::to_string(bg_.tets.size()) +
+                  " tets (" + std::to_string(out_.cut_tets) + " cut) after " +
+                  std::to_string(std::chrono::duration_cast<std::chrono::seconds>(now - start).count()) + " s");
+      }
     }
     out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
     connect_faces();
@@ -192,7 +233,9 @@ class CsgTets {
     out_.candidate_pairs = candidates_.size();
   }
 
-  void touching(std::uint32_t t, std::uint32_t x, const Point& where, const std::string& what) {
+  /// Records, once per tet, a non-generic contact of tet t with cut triangle x at `where`.
+  void touching(TetOut& out, std::uint32_t t, std::uint32_t x, const Point& where, const std::string& what) const {
+    if (out.touching) return;
     const Point3 p{CGAL::to_double(where.x()), CGAL::to_double(where.y()), CGAL::to_double(where.z())};
     Defect d;
     d.kind = DefectKind::Touching;
@@ -202,17 +245,16 @@ class CsgTets {
                 "); move or perturb the background mesh";
     d.facets = {static_cast<long>(m_.triangle_source[x])};
     d.points = {{p[0], p[1], p[2]}};
-    report_.add(std::move(d));
-    non_generic_ = true;
+    out.touching = std::move(d);
   }
 
   /// A point strictly inside (cut triangle x) ∩ (open tet t), or nullopt when they do not meet;
-  /// a non-generic contact reports a defect (and returns nullopt).
-  std::optional<Point> section_point(std::uint32_t t, std::uint32_t x) {
+  /// a non-generic contact is recorded in `out` (and returns nullopt).
+  std::optional<Point> section_point(TetOut& out, std::uint32_t t, std::uint32_t x) const {
     std::vector<Point> vertices;
     const auto add = [&](const Point& p, const char* what) {
       if (std::find(vertices.begin(), vertices.end(), p) != vertices.end()) {
-        touching(t, x, p, what);
+        touching(out, t, x, p, what);
         return false;
       }
       vertices.push_back(p);
@@ -227,7 +269,7 @@ class CsgTets {
         on += s == CGAL::ZERO;
       }
       if (inside + on == 4 && on > 0) {
-        touching(t, x, corner(x, k), "a vertex of the input lies on the boundary of the tet");
+        touching(out, t, x, corner(x, k), "a vertex of the input lies on the boundary of the tet");
         return std::nullopt;
       }
       if (inside == 4 && !add(corner(x, k), "")) return std::nullopt;
@@ -241,7 +283,7 @@ class CsgTets {
         if (const Point* p = boost::get<Point>(&*hit)) {
           if (!add(*p, "an input edge meets an edge of the tet")) return std::nullopt;
         } else {
-          touching(t, x, edge.source(), "an input edge lies in a face of the tet");
+          touching(out, t, x, edge.source(), "an input edge lies in a face of the tet");
           return std::nullopt;
         }
       }
@@ -254,13 +296,13 @@ class CsgTets {
       if (const Point* p = boost::get<Point>(&*hit)) {
         if (!add(*p, "an edge of the tet meets the input at an edge or a vertex")) return std::nullopt;
       } else {
-        touching(t, x, edge.source(), "an edge of the tet lies in the input");
+        touching(out, t, x, edge.source(), "an edge of the tet lies in the input");
         return std::nullopt;
       }
     }
     if (vertices.empty()) return std::nullopt;
     if (vertices.size() < 3) {
-      touching(t, x, vertices.front(), "the input touches the tet");
+      touching(out, t, x, vertices.front(), "the input touches the tet");
       return std::nullopt;
     }
     EK::FT sx(0), sy(0), sz(0);
@@ -359,26 +401,23 @@ class CsgTets {
     return key;
   }
 
-  void process_tet(std::uint32_t t, std::size_t begin, std::size_t end) {
-    const auto base = static_cast<std::uint32_t>(out_.region.size());
-    out_.first.push_back(base);
+  /// The local regions of tet t, with candidate cut triangles candidates_[begin, end), into `out`.
+  void process_tet(std::uint32_t t, std::size_t begin, std::size_t end, TetOut& out) const {
     const auto single = [&] {
-      out_.region.emplace_back();
-      out_.tet.push_back(t);
-      for (int f = 0; f < 4; ++f) parts_[4 * t + static_cast<std::size_t>(f)].push_back(FacePart{});
+      out.regions.emplace_back();
+      for (std::vector<FacePart>& parts : out.parts) parts.push_back(FacePart{});
     };
     std::vector<std::pair<std::uint32_t, Point>> met;  // (cut triangle, point inside it in the tet)
     for (std::size_t c = begin; c < end; ++c) {
       const std::uint32_t x = candidates_[c].second;
-      const std::optional<Point> p = section_point(t, x);
-      if (non_generic_) return;
+      const std::optional<Point> p = section_point(out, t, x);
+      if (out.touching) return;
       if (p) met.emplace_back(x, *p);
     }
     if (met.empty()) {
       single();
       return;
     }
-    out_.polygons += met.size();
 
     // The CSG: the closed tet minus every triangle that meets it.
     Mesh tet;
@@ -410,7 +449,7 @@ class CsgTets {
     std::vector<RegionId> regions(lr_of.size());
     std::vector<LocalRegions3::Fusion> fusions;
     for (const auto& [x, p] : met) {
-      triangle_met_[x] = 1;
+      out.met.push_back(x);
       Nef::Halffacet_const_handle facet;
       const bool on_facet = CGAL::assign(facet, nef.locate(p));
       IMM_ASSERT(on_facet, "a point inside a cut triangle is not on a facet");
@@ -425,28 +464,26 @@ class CsgTets {
         IMM_ASSERT(!regions[local].is_valid() || regions[local] == r, "a local region lies in two regions");
         regions[local] = r;
       }
-      if (inner != outer) fusions.push_back({base + inner, base + outer, patch(x)});
+      if (inner != outer) fusions.push_back({inner, outer, patch(x)});
       if (record_) {
-        out_.embedded.push_back({base + inner, x, true});
-        out_.embedded.push_back({base + outer, x, false});
+        out.embedded.push_back({inner, x, true});
+        out.embedded.push_back({outer, x, false});
       }
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t point = m_.vertex_point[m_.triangles[x][k]];
-        if (point >= c_.surface.vertex_count() || out_.vertices[point].local_region != kNone) continue;
+        if (point >= c_.surface.vertex_count() ||
+            std::any_of(out.vertices.begin(), out.vertices.end(), [&](const auto& v) { return v.first == point; }))
+          continue;
         bool inside = true;
         for (int f = 0; f < 4 && inside; ++f)
           inside = CGAL::orientation(tet_point(t, kFace[f][0]), tet_point(t, kFace[f][1]), tet_point(t, kFace[f][2]),
                                      corner(x, k)) == CGAL::POSITIVE;
         if (!inside) continue;
         const Point3& q = c_.surface.vertices[point];
-        out_.vertices[point] = {base + inner, patch(x), tet_barycentric(bg_, t, q)};
+        out.vertices.emplace_back(point, LocalRegions3::VertexLocation{inner, patch(x), tet_barycentric(bg_, t, q)});
       }
     }
-    for (RegionId r : regions) {
-      out_.region.push_back(r);
-      out_.tet.push_back(t);
-    }
-    if (regions.size() > 1) ++out_.cut_tets;
+    out.regions = regions;
     std::sort(fusions.begin(), fusions.end(), [](const auto& a, const auto& b) {
       return std::tie(a.inner, a.outer, a.patch) < std::tie(b.inner, b.outer, b.patch);
     });
@@ -455,7 +492,7 @@ class CsgTets {
                                 return a.inner == b.inner && a.outer == b.outer && a.patch == b.patch;
                               }),
                   fusions.end());
-    out_.fusions.insert(out_.fusions.end(), fusions.begin(), fusions.end());
+    out.fusions = std::move(fusions);
 
     // Face parts: halffacets from a local region to the outside.
     std::array<int, 4> axis{};
@@ -489,9 +526,37 @@ class CsgTets {
         drop_straight_vertices(part.cycles.back());
       }
       part.inside = interior_point(part.cycles);
-      parts_[4 * t + static_cast<std::size_t>(face)].push_back(std::move(part));
+      out.parts[static_cast<std::size_t>(face)].push_back(std::move(part));
     }
-    for (int f = 0; f < 4; ++f) IMM_ASSERT(!parts_[4 * t + static_cast<std::size_t>(f)].empty(), "a tet face without parts");
+    for (const std::vector<FacePart>& parts : out.parts) IMM_ASSERT(!parts.empty(), "a tet face without parts");
+  }
+
+  /// Appends tet t's result (numbered from out_.region.size()); a non-generic contact is reported
+  /// instead and stops the run.
+  void merge(std::uint32_t t, TetOut& tet) {
+    if (tet.touching) {
+      report_.add(std::move(*tet.touching));
+      non_generic_ = true;
+      return;
+    }
+    const auto base = static_cast<std::uint32_t>(out_.region.size());
+    out_.first.push_back(base);
+    for (RegionId r : tet.regions) {
+      out_.region.push_back(r);
+      out_.tet.push_back(t);
+    }
+    if (tet.regions.size() > 1) ++out_.cut_tets;
+    out_.polygons += tet.met.size();
+    for (std::uint32_t x : tet.met) triangle_met_[x] = 1;
+    for (const LocalRegions3::Fusion& f : tet.fusions) out_.fusions.push_back({base + f.inner, base + f.outer, f.patch});
+    for (const LocalRegions3::Embedded& e : tet.embedded)
+      out_.embedded.push_back({base + e.local_region, e.cut_triangle, e.inner});
+    for (auto& [point, location] : tet.vertices) {
+      if (out_.vertices[point].local_region != kNone) continue;
+      location.local_region += base;
+      out_.vertices[point] = location;
+    }
+    for (int f = 0; f < 4; ++f) parts_[4 * t + static_cast<std::size_t>(f)] = std::move(tet.parts[static_cast<std::size_t>(f)]);
   }
 
 
@@ -656,6 +721,8 @@ class CsgTets {
   const CutMesh& m_;
   const TetMesh& bg_;
   const bool record_;
+  const unsigned threads_;
+  const LogCallback& progress_;
   ValidationReport& report_;
   bool& non_generic_;
 
@@ -670,9 +737,10 @@ class CsgTets {
 }  // namespace
 
 LocalRegions3 compute_local_regions3_csg(const Complex3& complex, const TetMesh& background, bool record_embedded,
-                                         ValidationReport& report, bool& non_generic) {
+                                         unsigned threads, const LogCallback& progress, ValidationReport& report,
+                                         bool& non_generic) {
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
-  return CsgTets(complex, background, record_embedded, report, non_generic).run();
+  return CsgTets(complex, background, record_embedded, resolve_threads(threads), progress, report, non_generic).run();
 }
 
 }  // namespace imm::dim3::detail

@@ -1,0 +1,55 @@
+// A small std::thread loop for the independent per-element work of the meshing step (paper §7.1:
+// every background element's local regions are computed on their own). TBB is not a dependency
+// of this project, so the loop is written out once here and shared by the exact clipping and the
+// CSG baseline, which must run on the same number of threads to be compared fairly.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <exception>
+#include <thread>
+#include <vector>
+
+namespace imm {
+
+/// The thread count to use for a request of `threads` (0 = one per hardware thread).
+inline unsigned resolve_threads(unsigned threads) {
+  return threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+}
+
+/// Runs body(i, worker) for every i in [0, count) on at most `threads` threads, worker in
+/// [0, threads). Scheduling is dynamic: workers take min(grain, 16) consecutive indices at a time,
+/// so unevenly expensive items balance. With one worker the items run in order on the calling
+/// thread. The first exception thrown by a body stops the loop and is rethrown here.
+/// @param grain the fewest items worth a thread of their own.
+template <class Body>
+void parallel_for(unsigned threads, std::size_t count, const Body& body, std::size_t grain = 64) {
+  grain = std::max<std::size_t>(grain, 1);
+  const std::size_t step = std::min<std::size_t>(grain, 16);
+  const auto workers = static_cast<unsigned>(std::min<std::size_t>(std::max(threads, 1u), (count + grain - 1) / grain));
+  if (workers <= 1) {
+    for (std::size_t i = 0; i < count; ++i) body(i, 0u);
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  std::vector<std::exception_ptr> errors(workers);
+  std::vector<std::thread> pool;
+  pool.reserve(workers);
+  for (unsigned w = 0; w < workers; ++w) {
+    pool.emplace_back([&, w] {
+      try {
+        for (std::size_t i; (i = next.fetch_add(step)) < count;)
+          for (std::size_t j = i; j < std::min(count, i + step); ++j) body(j, w);
+      } catch (...) {
+        errors[w] = std::current_exception();
+        next = count;
+      }
+    });
+  }
+  for (std::thread& th : pool) th.join();
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+}
+
+}  // namespace imm
