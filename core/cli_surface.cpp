@@ -494,6 +494,9 @@ Json mesh3_json(const dim3::MeshResult3& m, std::size_t k, const Immersion& imme
   phases.set("background", m.stats.seconds_background * 1e3);
   phases.set("virtual", m.stats.seconds_virtual * 1e3);
   phases.set("assembly", m.stats.seconds_assembly * 1e3);
+  // Thread-milliseconds inside the virtual stage (summed over threads).
+  phases.set("exact_arithmetic_thread", m.stats.thread_seconds_exact * 1e3);
+  phases.set("booleans_thread", m.stats.thread_seconds_booleans * 1e3);
   return j;
 }
 

@@ -73,6 +73,11 @@ struct LocalRegions3 {
   std::size_t side_tests = 0;       ///< "which side of a piece" tests
   std::size_t exact_tets = 0;       ///< tets redone in exact arithmetic (intervals could not decide)
   std::size_t point_locations = 0;  ///< exact point locations for flood components
+  /// Thread-seconds (summed over threads) in exact arithmetic: clipping, the tets redone in Epeck;
+  /// CSG, every cut tet (all of its work is exact).
+  double seconds_exact = 0.0;
+  /// Thread-seconds in Nef constructions and booleans (CSG only; clipping has none).
+  double seconds_booleans = 0.0;
 };
 
 /// Barycentric coordinates of point p in tet t of `mesh`, for the .emb output only (never for a

@@ -46,6 +46,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <exception>
@@ -174,6 +175,7 @@ class VirtualTets {
     std::vector<std::vector<PolygonT<IK>>> interval_scratch(threads_);
     std::vector<std::vector<Polygon>> scratch(threads_);
     std::atomic<std::size_t> exact_tets{0};
+    std::vector<double> exact_seconds(threads_, 0.0);  // per worker
     for (std::size_t first = 0; first < bg_.tets.size(); first += kBlock) {
       const std::size_t count = std::min(kBlock, bg_.tets.size() - first);
       parallel_for(threads_, count, [&](std::size_t i, unsigned worker) {
@@ -194,7 +196,9 @@ class VirtualTets {
         }
         block[i] = TetOut();
         ++exact_tets;
+        const auto exact_start = std::chrono::steady_clock::now();
         process_tet<EK>(t, cand_first[t], cand_first[t + 1], block[i], scratch[worker]);
+        exact_seconds[worker] += std::chrono::duration<double>(std::chrono::steady_clock::now() - exact_start).count();
       });
       for (std::size_t i = 0; i < count; ++i) {
         merge(static_cast<std::uint32_t>(first + i), block[i]);
@@ -203,6 +207,7 @@ class VirtualTets {
     }
     out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
     out_.exact_tets = exact_tets;
+    for (double s : exact_seconds) out_.seconds_exact += s;
     connect_faces();
     if (!report_.ok()) return std::move(out_);
     resolve_regions();

@@ -144,6 +144,8 @@ struct TetOut {
   std::vector<std::uint32_t> met;                ///< cut triangles that meet the open tet
   std::array<std::vector<FacePart>, 4> parts;    ///< per face of the tet
   std::optional<Defect> touching;                ///< a non-generic contact (the tet is then incomplete)
+  double seconds = 0.0;                          ///< in the tet (all of it exact)
+  double seconds_booleans = 0.0;                 ///< in Nef constructions and booleans
 };
 
 class CsgTets {
@@ -178,7 +180,10 @@ class CsgTets {
           [&](std::size_t i, unsigned) {
             const auto t = static_cast<std::uint32_t>(first + i);
             block[i] = TetOut();
+            const auto tet_start = std::chrono::steady_clock::now();
             process_tet(t, cand_first[t], cand_first[t + 1], block[i]);
+            if (!block[i].met.empty())
+              block[i].seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tet_start).count();
           },
           /*grain=*/1);
       for (std::size_t i = 0; i < count; ++i) {
@@ -420,6 +425,7 @@ class CsgTets {
     }
 
     // The CSG: the closed tet minus every triangle that meets it.
+    const auto booleans_start = std::chrono::steady_clock::now();
     Mesh tet;
     std::array<Mesh::Vertex_index, 4> v;
     for (int k = 0; k < 4; ++k) v[k] = tet.add_vertex(tet_point(t, k));
@@ -433,6 +439,7 @@ class CsgTets {
       }
       nef -= *cut;
     }
+    out.seconds_booleans = std::chrono::duration<double>(std::chrono::steady_clock::now() - booleans_start).count();
 
     // Local regions: the bounded volumes.
     std::unordered_map<const void*, std::uint32_t> lr_of;
@@ -547,6 +554,8 @@ class CsgTets {
     }
     if (tet.regions.size() > 1) ++out_.cut_tets;
     out_.polygons += tet.met.size();
+    out_.seconds_exact += tet.seconds;
+    out_.seconds_booleans += tet.seconds_booleans;
     for (std::uint32_t x : tet.met) triangle_met_[x] = 1;
     for (const LocalRegions3::Fusion& f : tet.fusions) out_.fusions.push_back({base + f.inner, base + f.outer, f.patch});
     for (const LocalRegions3::Embedded& e : tet.embedded)
