@@ -4,6 +4,8 @@
 // CSG baseline, which must run on the same number of threads to be compared fairly.
 #pragma once
 
+#include <time.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
@@ -13,15 +15,25 @@
 
 namespace imm {
 
+/// CPU seconds the calling thread has used so far (POSIX CLOCK_THREAD_CPUTIME_ID): for
+/// attributing work done on several threads, which wall time cannot when threads share cores.
+inline double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 /// The thread count to use for a request of `threads` (0 = one per hardware thread).
 inline unsigned resolve_threads(unsigned threads) {
   return threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
 }
 
-/// Runs body(i, worker) for every i in [0, count) on at most `threads` threads, worker in
-/// [0, threads). Scheduling is dynamic: workers take min(grain, 16) consecutive indices at a time,
+/// Runs body(i, worker) for every i in [0, count) on at most `threads` threads, `worker` the
+/// index of the thread running it (below the number of workers started). Scheduling is dynamic: workers take min(grain, 16) consecutive indices at a time,
 /// so unevenly expensive items balance. With one worker the items run in order on the calling
-/// thread. The first exception thrown by a body stops the loop and is rethrown here.
+/// thread. An exception thrown by a body stops the loop and is rethrown here (when several
+/// workers throw, the lowest-numbered worker's; callers that need the first item's error in
+/// item order catch inside the body, as the meshing loops do).
 /// @param grain the fewest items worth a thread of their own.
 template <class Body>
 void parallel_for(unsigned threads, std::size_t count, const Body& body, std::size_t grain = 64) {

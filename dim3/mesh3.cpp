@@ -219,8 +219,8 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   result.stats.cut_tets = local.cut_tets;
   result.stats.side_tests = local.side_tests;
   result.stats.exact_tets = local.exact_tets;
-  result.stats.thread_seconds_exact = local.seconds_exact;
-  result.stats.thread_seconds_booleans = local.seconds_booleans;
+  result.stats.cpu_seconds_exact = local.seconds_exact;
+  result.stats.cpu_seconds_booleans = local.seconds_booleans;
   if (!result.report.ok()) return result;
   log("meshing: " + std::to_string(local.polygons) + " clipped polygons, " + std::to_string(local.cut_tets) +
       " cut tets");

@@ -67,11 +67,11 @@ struct MeshStats3 {
   double seconds_background = 0.0;
   double seconds_virtual = 0.0;   ///< clipping, pieces, local regions
   double seconds_assembly = 0.0;  ///< atoms, fusion, union-find, outputs
-  /// Within the virtual tets, thread-seconds (summed over threads, so they can exceed
+  /// Within the virtual tets, CPU seconds summed over threads (so they can exceed
   /// seconds_virtual): in exact arithmetic (clipping: the tets the intervals could not decide;
-  /// CSG: every cut tet) and in Nef booleans (CSG only).
-  double thread_seconds_exact = 0.0;
-  double thread_seconds_booleans = 0.0;
+  /// CSG: every tet a cut triangle meets, booleans included) and in Nef booleans (CSG only).
+  double cpu_seconds_exact = 0.0;
+  double cpu_seconds_booleans = 0.0;
 };
 
 /// What one output tet (an element copy) holds: local regions of its background tet as seen by

@@ -73,10 +73,10 @@ struct LocalRegions3 {
   std::size_t side_tests = 0;       ///< "which side of a piece" tests
   std::size_t exact_tets = 0;       ///< tets redone in exact arithmetic (intervals could not decide)
   std::size_t point_locations = 0;  ///< exact point locations for flood components
-  /// Thread-seconds (summed over threads) in exact arithmetic: clipping, the tets redone in Epeck;
-  /// CSG, every cut tet (all of its work is exact).
+  /// CPU seconds (summed over threads) in exact arithmetic: clipping, the tets redone in Epeck;
+  /// CSG, every tet a cut triangle meets (all of its work is exact; booleans included).
   double seconds_exact = 0.0;
-  /// Thread-seconds in Nef constructions and booleans (CSG only; clipping has none).
+  /// CPU seconds in Nef constructions and booleans (CSG only; clipping has none).
   double seconds_booleans = 0.0;
 };
 

@@ -178,7 +178,7 @@ class VirtualTets {
     std::vector<double> exact_seconds(threads_, 0.0);  // per worker
     for (std::size_t first = 0; first < bg_.tets.size(); first += kBlock) {
       const std::size_t count = std::min(kBlock, bg_.tets.size() - first);
-      parallel_for(threads_, count, [&](std::size_t i, unsigned worker) {
+      const auto run_tet = [&](std::size_t i, unsigned worker) {
         const auto t = static_cast<std::uint32_t>(first + i);
         block[i] = TetOut();
         if (cand_first[t] == cand_first[t + 1]) {
@@ -196,9 +196,16 @@ class VirtualTets {
         }
         block[i] = TetOut();
         ++exact_tets;
-        const auto exact_start = std::chrono::steady_clock::now();
+        const double exact_start = thread_cpu_seconds();
         process_tet<EK>(t, cand_first[t], cand_first[t + 1], block[i], scratch[worker]);
-        exact_seconds[worker] += std::chrono::duration<double>(std::chrono::steady_clock::now() - exact_start).count();
+        exact_seconds[worker] += thread_cpu_seconds() - exact_start;
+      };
+      parallel_for(threads_, count, [&](std::size_t i, unsigned worker) {
+        try {
+          run_tet(i, worker);
+        } catch (...) {
+          block[i].error = std::current_exception();  // rethrown by merge, so the first tet's wins
+        }
       });
       for (std::size_t i = 0; i < count; ++i) {
         merge(static_cast<std::uint32_t>(first + i), block[i]);
@@ -458,6 +465,7 @@ class VirtualTets {
     std::array<std::uint32_t, 4> face_lr{kNone, kNone, kNone, kNone};  ///< untraced faces
     std::size_t polygons = 0, pieces = 0, side_tests = 0;
     std::optional<Defect> defect;  ///< a non-generic contact
+    std::exception_ptr error;      ///< thrown while processing the tet; rethrown in tet order
   };
 
   template <class K>
@@ -624,6 +632,7 @@ class VirtualTets {
       report_.add(std::move(*o.defect));
       return;
     }
+    if (o.error) std::rethrow_exception(o.error);
     const auto base = static_cast<std::uint32_t>(out_.region.size());
     out_.first.push_back(base);
     for (RegionId r : o.regions) {

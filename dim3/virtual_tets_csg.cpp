@@ -37,6 +37,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <map>
 #include <optional>
 #include <unordered_map>
@@ -144,8 +145,11 @@ struct TetOut {
   std::vector<std::uint32_t> met;                ///< cut triangles that meet the open tet
   std::array<std::vector<FacePart>, 4> parts;    ///< per face of the tet
   std::optional<Defect> touching;                ///< a non-generic contact (the tet is then incomplete)
-  double seconds = 0.0;                          ///< in the tet (all of it exact)
-  double seconds_booleans = 0.0;                 ///< in Nef constructions and booleans
+  std::exception_ptr error;                      ///< thrown while processing the tet; rethrown in tet order
+  /// CPU seconds in the tet, set only when cut triangles meet it (all of its work is then exact);
+  /// they include seconds_booleans.
+  double seconds = 0.0;
+  double seconds_booleans = 0.0;                 ///< CPU seconds in Nef constructions and booleans
 };
 
 class CsgTets {
@@ -180,10 +184,13 @@ class CsgTets {
           [&](std::size_t i, unsigned) {
             const auto t = static_cast<std::uint32_t>(first + i);
             block[i] = TetOut();
-            const auto tet_start = std::chrono::steady_clock::now();
-            process_tet(t, cand_first[t], cand_first[t + 1], block[i]);
-            if (!block[i].met.empty())
-              block[i].seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - tet_start).count();
+            try {
+              const double tet_start = thread_cpu_seconds();
+              process_tet(t, cand_first[t], cand_first[t + 1], block[i]);
+              if (!block[i].met.empty()) block[i].seconds = thread_cpu_seconds() - tet_start;
+            } catch (...) {
+              block[i].error = std::current_exception();  // rethrown by merge, so the first tet's wins
+            }
           },
           /*grain=*/1);
       for (std::size_t i = 0; i < count; ++i) {
@@ -425,7 +432,7 @@ class CsgTets {
     }
 
     // The CSG: the closed tet minus every triangle that meets it.
-    const auto booleans_start = std::chrono::steady_clock::now();
+    const double booleans_start = thread_cpu_seconds();
     Mesh tet;
     std::array<Mesh::Vertex_index, 4> v;
     for (int k = 0; k < 4; ++k) v[k] = tet.add_vertex(tet_point(t, k));
@@ -439,7 +446,7 @@ class CsgTets {
       }
       nef -= *cut;
     }
-    out.seconds_booleans = std::chrono::duration<double>(std::chrono::steady_clock::now() - booleans_start).count();
+    out.seconds_booleans = thread_cpu_seconds() - booleans_start;
 
     // Local regions: the bounded volumes.
     std::unordered_map<const void*, std::uint32_t> lr_of;
@@ -546,6 +553,7 @@ class CsgTets {
       non_generic_ = true;
       return;
     }
+    if (tet.error) std::rethrow_exception(tet.error);
     const auto base = static_cast<std::uint32_t>(out_.region.size());
     out_.first.push_back(base);
     for (RegionId r : tet.regions) {
