@@ -305,7 +305,8 @@ BENCHMARK(BM_Mesh3_ClipDoubles)
 // ---- scaling -----------------------------------------------------------------------------------
 
 /// BM_Mesh3_Method/method/resolution: exact clipping (0) against the CSG baseline (1, Nef
-/// polyhedron booleans per cut tet) on tube_overlap(6) (516 triangles); the same duplication.
+/// polyhedron booleans per cut tet) on tube_overlap(6) (516 triangles), both on one thread; the
+/// same duplication.
 void BM_Mesh3_Method(benchmark::State& state) {
   static std::string error;
   static const std::optional<Mesh3Input> input = prepare(dim3::tube_overlap(6), error);
@@ -316,6 +317,7 @@ void BM_Mesh3_Method(benchmark::State& state) {
   dim3::MeshOptions3 options;
   options.method = state.range(0) == 1 ? MeshMethod::Csg : MeshMethod::Clip;
   options.resolution = static_cast<int>(state.range(1));
+  options.threads = 1;  // both methods on one thread (BM_Stage_Virtual compares them on all)
   run_mesh(state, *input, options);
   state.SetLabel(state.range(0) == 1 ? "csg" : "clip");
 }

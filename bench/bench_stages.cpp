@@ -142,10 +142,11 @@ void BM_Stage_Complex(benchmark::State& state) {
 BENCHMARK(BM_Stage_Complex)->ArgName("dim")->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_Stage_Search(benchmark::State& state) {
+  const CellComplex<2>* complex2 = state.range(0) == 2 ? &input2().complex->complex : nullptr;
+  const CellComplex<3>* complex3 = state.range(0) == 3 ? &input3().complex().complex : nullptr;
   SearchResult last;
   for (auto _ : state) {
-    last = state.range(0) == 2 ? find_immersions(input2().complex->complex)
-                               : find_immersions(input3().complex().complex);
+    last = complex2 ? find_immersions(*complex2) : find_immersions(*complex3);
     benchmark::DoNotOptimize(last.immersions.data());
   }
   state.counters["states"] = static_cast<double>(last.stats.states);
