@@ -626,6 +626,13 @@ TEST_F(Cli3Test, MeshWritesEveryFormatAndTheCountsAgree) {
   for (std::size_t c = 0; c < 3; ++c)
     EXPECT_EQ(csg_counts["copies_per_cell"][c].integer(), counts["copies_per_cell"][c].integer());
   EXPECT_EQ(csg_json["options"]["method"].string(), "csg");
+  // Exact work in CPU milliseconds: the CSG's is booleans for the most part; two boxes are
+  // decided by the clipping's interval filter alone, with no booleans ever.
+  const JsonValue& csg_cpu = csg_json["meshes"][0]["virtual_cpu_ms"];
+  EXPECT_GT(csg_cpu["booleans"].number(), 0.0);
+  EXPECT_LE(csg_cpu["booleans"].number(), csg_cpu["exact_arithmetic"].number());
+  EXPECT_EQ(j["meshes"][0]["virtual_cpu_ms"]["booleans"].number(), 0.0);
+  EXPECT_EQ(counts["exact_fallback_tets"].integer() == 0, j["meshes"][0]["virtual_cpu_ms"]["exact_arithmetic"].number() == 0.0);
   ASSERT_EQ(run("mesh two.obj --resolution 6 --threads 1 -o one.mesh").code, 0);
   ASSERT_EQ(run("mesh two.obj --resolution 6 --threads 2 -o both.mesh").code, 0);
   EXPECT_EQ(read("one.mesh"), read("both.mesh"));
