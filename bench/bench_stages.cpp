@@ -81,16 +81,6 @@ struct Input3 {
   [[nodiscard]] const dim3::Complex3& complex() const { return *immersed.build.complex; }
 };
 
-dim3::Box3 box_of(const dim3::Surface& s) {
-  dim3::Box3 b{s.vertices.front(), s.vertices.front()};
-  for (const dim3::Point3& p : s.vertices)
-    for (int d = 0; d < 3; ++d) {
-      b.lo[d] = std::min(b.lo[d], p[d]);
-      b.hi[d] = std::max(b.hi[d], p[d]);
-    }
-  return b;
-}
-
 const Input3& input3() {
   static const Input3 input = [] {
     Input3 in;
@@ -101,7 +91,7 @@ const Input3& input3() {
     options.build.exact_volumes = false;  // the search and the meshing do not read them
     in.immersed = dim3::immerse_surface(in.surface, options);
     IMM_ASSERT(in.immersed.build.report.ok() && !in.immersed.search.immersions.empty(), "two-tori 16 is immersible");
-    in.background = dim3::make_grid_background(box_of(in.complex().surface), kResolution3, 0);
+    in.background = dim3::make_grid_background(dim3::bounding_box(in.complex().surface), kResolution3, 0);
     ValidationReport report;
     bool non_generic = false;
     in.local = dim3::detail::compute_local_regions3(in.complex(), in.background, {0, 0, 0}, false, 0, true, report,

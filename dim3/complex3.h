@@ -19,6 +19,7 @@
 //     casting; winding numbers follow from "+1 across a patch against its normal".
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <optional>
@@ -37,6 +38,17 @@ struct Box3 {
   Point3 lo{0, 0, 0};
   Point3 hi{0, 0, 0};
 };
+
+/// The box of a surface's vertices (e.g. for a generated background grid). @pre s has vertices.
+inline Box3 bounding_box(const Surface& s) {
+  Box3 b{s.vertices.front(), s.vertices.front()};
+  for (const Point3& p : s.vertices)
+    for (int d = 0; d < 3; ++d) {
+      b.lo[d] = std::min(b.lo[d], p[d]);
+      b.hi[d] = std::max(b.hi[d], p[d]);
+    }
+  return b;
+}
 
 /// The 3D cell complex with its geometry.
 struct Complex3 {

@@ -27,16 +27,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-Box3 input_box(const Surface& s) {
-  Box3 b{s.vertices.front(), s.vertices.front()};
-  for (const Point3& p : s.vertices)
-    for (int d = 0; d < 3; ++d) {
-      b.lo[d] = std::min(b.lo[d], p[d]);
-      b.hi[d] = std::max(b.hi[d], p[d]);
-    }
-  return b;
-}
-
 }  // namespace
 
 namespace detail {
@@ -160,7 +150,7 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   // is kept and the input is translated relative to it by a tiny explicit vector (about 2^-32 of
   // the input's diagonal), for which every decision is again exact.
   auto start = std::chrono::steady_clock::now();
-  const Box3 box = input_box(complex.surface);
+  const Box3 box = bounding_box(complex.surface);
   if (options.background_path) {
     TetReadResult read = read_tet_mesh(*options.background_path);
     result.report = std::move(read.report);

@@ -35,16 +35,6 @@ namespace {
 
 using detail::LocalRegions3;
 
-Box3 surface_box(const Surface& s) {
-  Box3 b{s.vertices.front(), s.vertices.front()};
-  for (const Point3& p : s.vertices)
-    for (int d = 0; d < 3; ++d) {
-      b.lo[d] = std::min(b.lo[d], p[d]);
-      b.hi[d] = std::max(b.hi[d], p[d]);
-    }
-  return b;
-}
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -129,7 +119,7 @@ void expect_same_duplication(const Surface& surface, const std::string& name, in
   ASSERT_TRUE(im.build.complex != nullptr);
   ASSERT_FALSE(im.search.immersions.empty());
   const Complex3& complex = *im.build.complex;
-  const TetMesh background = make_grid_background(surface_box(complex.surface), resolution, 0);
+  const TetMesh background = make_grid_background(bounding_box(complex.surface), resolution, 0);
 
   ValidationReport clip_report, csg_report;
   bool clip_non_generic = false, csg_non_generic = false;
@@ -224,7 +214,7 @@ TEST(CsgBaselineThreads, TheThreadCountDoesNotChangeTheResult) {
   const Immersed3 im = immerse_surface(g.surface, options);
   ASSERT_TRUE(im.build.complex != nullptr);
   const Complex3& complex = *im.build.complex;
-  const TetMesh background = make_grid_background(surface_box(complex.surface), 5, 0);  // 5 blocks of tets
+  const TetMesh background = make_grid_background(bounding_box(complex.surface), 5, 0);  // 5 blocks of tets
   std::vector<LocalRegions3> results;
   for (unsigned threads : {1u, 2u, 3u}) {
     ValidationReport report;
