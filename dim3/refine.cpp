@@ -22,10 +22,9 @@
 #include <limits>
 #include <map>
 #include <sstream>
-#include <exception>
-#include <thread>
 #include <unordered_map>
 
+#include "core/parallel.h"
 #include "dim3/cut_mesh.h"
 
 namespace imm::dim3 {
@@ -593,24 +592,7 @@ class Refiner {
     for (std::uint32_t t = 0; t < s_.triangle_count(); ++t)
       if (!tri_segments_[t].empty()) cut.push_back(t);
     std::vector<LocalCut> local(cut.size());
-    threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(cut.size() / 64 + 1)));
-    std::vector<std::exception_ptr> errors(threads);
-    auto work = [&](unsigned k) {
-      try {
-        for (std::size_t i = k; i < cut.size(); i += threads) local[i] = triangulate(cut[i]);
-      } catch (...) {
-        errors[k] = std::current_exception();  // rethrown on the calling thread below
-      }
-    };
-    if (threads == 1) {
-      work(0);
-    } else {
-      std::vector<std::thread> pool;
-      for (unsigned k = 0; k < threads; ++k) pool.emplace_back(work, k);
-      for (std::thread& th : pool) th.join();
-    }
-    for (const std::exception_ptr& e : errors)
-      if (e) std::rethrow_exception(e);
+    parallel_for(threads, cut.size(), [&](std::size_t i, unsigned) { local[i] = triangulate(cut[i]); });
     m_->first_sub_triangle.assign(s_.triangle_count() + 1, 0);
     boundary_.reserve(s_.triangle_count());
     std::size_t next = 0;
@@ -845,8 +827,7 @@ class Refiner {
 }  // namespace
 
 RefineResult refine_surface(const Surface& surface, const LogCallback& progress, unsigned threads) {
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  return Refiner(surface, progress, threads).run();
+  return Refiner(surface, progress, resolve_threads(threads)).run();
 }
 
 Rational six_signed_volume(const EK::Point_3& a, const EK::Point_3& b, const EK::Point_3& c) {
