@@ -11,7 +11,7 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
   echo "configuring build/ (Release)" >&2
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >"$log" 2>&1 || { cat "$log" >&2; exit 1; }
 fi
-jobs=$(nproc 2>/dev/null || echo 2)
+jobs=${IMM_JOBS:-$(nproc 2>/dev/null || echo 2)}
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
 if ! cmake --build "$build" -j "$jobs" "${targets[@]}" >"$log" 2>&1; then
