@@ -1,7 +1,7 @@
-// The 3D commands of `immerse` (core/cli.h): check, cells, immersions and generate on closed
+// The 3D commands of `immerse` (app/cli.h): check, cells, immersions and generate on closed
 // triangle meshes (OBJ, OFF, PLY, STL). The 2D commands dispatch here when the input is a
 // surface (is_surface_file); messages, exit codes, JSON shapes and the summary line follow the
-// 2D ones (core/cli.cpp), with triangles where 2D has segments and volumes where it has areas.
+// 2D ones (app/cli.cpp), with triangles where 2D has segments and volumes where it has areas.
 //
 // Library results map to exit codes as in 2D: a ValidationReport with defects (the reader's, the
 // validator's, or the exact intersection's non-generic contacts) -> 2; an inversion, a proven
@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "core/cli_common.h"
+#include "app/cli_common.h"
 #include "dim3/complex3.h"
 #include "dim3/generators3.h"
 #include "dim3/mesh3.h"

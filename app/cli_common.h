@@ -1,4 +1,4 @@
-// Internal to the `immerse` command line (core/cli.cpp, core/cli_surface.cpp): the pieces both
+// Internal to the `immerse` command line (app/cli.cpp, app/cli_surface.cpp): the pieces both
 // dimensions' commands share. Not a library API: nothing outside the `immerse` target includes it.
 //
 //  - Session: timings per stage, the one-line summary, atomic writes and the list of written files;
@@ -25,7 +25,7 @@
 
 #include "core/atomic_file.h"
 #include "core/cell_complex.h"
-#include "core/cli.h"
+#include "app/cli.h"
 #include "core/diagnostics.h"
 #include "core/graph_search.h"
 #include "core/report_json.h"
@@ -284,7 +284,7 @@ void add_complex_json(Json& j, const CellComplex<D>& complex, const ComplexJsonH
   }
 }
 
-// ---- 3D commands (core/cli_surface.cpp) -------------------------------------------------------
+// ---- 3D commands (app/cli_surface.cpp) -------------------------------------------------------
 
 /// True when the file is a 3D surface: .off/.ply/.stl, or an OBJ with faces and no 'l' lines.
 bool is_surface_file(const std::string& path);

@@ -1,4 +1,4 @@
-// The `immerse` command line (DESIGN §3). See core/cli.h for the command list and exit codes.
+// The `immerse` command line (DESIGN §3). See app/cli.h for the command list and exit codes.
 //
 // This layer owns everything user-facing: parsing, messages, exit codes, JSON/SVG reports and
 // the one-line timing summary. The library calls below never print; they return reports and
@@ -9,9 +9,9 @@
 // Every output goes through write_file_atomic: complete or absent, never half-written.
 //
 // This file holds the parsing, the help texts, the 2D commands and the pieces both dimensions
-// share (declared in core/cli_common.h); the commands dispatch to core/cli_surface.cpp when the
+// share (declared in app/cli_common.h); the commands dispatch to app/cli_surface.cpp when the
 // input is a 3D surface (is_surface_file) or the generator name is a 3D one.
-#include "core/cli.h"
+#include "app/cli.h"
 
 #include <algorithm>
 #include <charconv>
@@ -33,7 +33,7 @@
 #include <variant>
 
 #include "core/atomic_file.h"
-#include "core/cli_common.h"
+#include "app/cli_common.h"
 #include "core/diagnostics.h"
 #include "core/graph_search.h"
 #include "core/report_json.h"
@@ -290,7 +290,7 @@ std::variant<double, UsageError> parse_positive_real(const std::string& option, 
 
 }  // namespace
 
-// ---- shared with the 3D commands (core/cli_common.h) -----------------------------------------
+// ---- shared with the 3D commands (app/cli_common.h) -----------------------------------------
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
