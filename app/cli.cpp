@@ -109,7 +109,7 @@ std::vector<CommandSpec> make_command_specs() {
   CommandSpec check;
   check.name = "check";
   check.usage = "check IN";
-  check.positional_help = "a 2D curve file (.txt .xy .poly .svg .obj) or a 3D surface (.obj .off .ply .stl)";
+  check.positional_help = "a 2D curve file (text, SVG, OBJ lines) or a 3D surface (OBJ, OFF, PLY, STL)";
   check.description =
       "Reads IN and validates it, then builds its cell complex.\n"
       "2D curves: empty input, non-finite coordinates, curves with fewer than three vertices, repeated\n"
