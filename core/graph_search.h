@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,11 @@ struct SearchStats {
   std::size_t duplicates = 0;  ///< complete graphs dropped as isomorphic to one already found
   std::size_t probes = 0;      ///< trial propagations of branch options (included in `states`)
   std::size_t groups = 0;      ///< independent subproblems (cells linked by patches and arcs)
+  /// Complete graphs the final rule check refused (they are dropped, not returned). Every
+  /// complete state the search reaches is a fixpoint of the propagators, which then satisfies
+  /// Rules 1–7: a non-zero count means a propagator missed a consequence of its rule (a bug;
+  /// the tests require 0).
+  std::size_t rejected = 0;
   double seconds = 0.0;
 };
 
@@ -80,7 +86,20 @@ struct SearchResult {
 template <int D>
 SearchResult find_immersions(const CellComplex<D>& complex, const SearchOptions& options = {});
 
+/// Checks a complete immersion graph given from outside (another program, a file, a test) against
+/// Rules 1–7 with the predicates of the search's final check, which are written from the rules'
+/// statements and share no code with the search's propagation.
+/// @return the first violated rule (in the order 1, 2, 3, 7, 5, 4, 6), with the nodes, patches
+///         and arc involved; std::nullopt when the graph satisfies every rule. A graph that does
+///         not fit the complex (node layout, ownership table size, an edge between cells that are
+///         not the two sides of its patch) is reported as a violation of Rule 1, 2, 3 or 7.
+/// Paper: §5.2 (Theorem 4), §5.3 (Theorem 5: such a graph gives an immersion).
+template <int D>
+std::optional<Conflict> check_rules(const CellComplex<D>& complex, const Immersion& immersion);
+
 extern template SearchResult find_immersions<2>(const CellComplex<2>&, const SearchOptions&);
 extern template SearchResult find_immersions<3>(const CellComplex<3>&, const SearchOptions&);
+extern template std::optional<Conflict> check_rules<2>(const CellComplex<2>&, const Immersion&);
+extern template std::optional<Conflict> check_rules<3>(const CellComplex<3>&, const Immersion&);
 
 }  // namespace imm

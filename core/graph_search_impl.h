@@ -583,6 +583,7 @@ class ImmersionSearch {
   /// @return true if it is a new solution.
   bool accept(const SearchState& st, int group, int depth, GroupSolutions& out) {
     if (std::optional<Conflict> c = check_all_rules(ctx_, st, group)) {
+      ++stats_.rejected;
       record_dead_end(std::move(*c), depth, out);
       return false;
     }
@@ -844,6 +845,77 @@ template <int D>
 std::string canonical_form(const CellComplex<D>& complex, const Immersion& immersion) {
   const detail::RuleContext ctx(complex);
   return detail::canonical_form_impl(ctx, immersion);
+}
+
+namespace detail {
+
+/// The search state of a complete graph given from outside, in `st`, or the rule a graph breaks
+/// that does not even fit the slots (a node of no side of the patch, two values for one slot).
+inline std::optional<Conflict> state_of_immersion(const RuleContext& ctx, const Immersion& im,
+                                                  SearchState& st) {
+  bool same_layout = im.layout.node_count() == ctx.node_count();
+  for (NodeId n : ids<NodeId>(ctx.node_count())) {
+    same_layout = same_layout && im.layout.cell(n) == ctx.layout.cell(n);
+  }
+  if (!same_layout) {
+    return make_conflict(7, "the graph's nodes are not the winding-number copies of the complex's "
+                            "cells", {}, {});
+  }
+  if (im.owner.size() != ctx.patch_count()) {
+    return make_conflict(7, "the ownership table has " + std::to_string(im.owner.size()) +
+                                " entries for " + std::to_string(ctx.patch_count()) + " patches",
+                         {}, {});
+  }
+  st.slot.assign(ctx.slot_count(), kUndecided);
+  st.reason.assign(ctx.slot_count(), Reason{});
+  st.owner = IdMap<PatchId, NodeId>(ctx.patch_count());
+  const auto is_node = [&](NodeId n) { return n.is_valid() && n.index() < ctx.node_count(); };
+  for (PatchId p : ids<PatchId>(ctx.patch_count())) {
+    const NodeId o = im.owner[p];
+    if (!is_node(o)) {
+      return make_conflict(7, "patch " + std::to_string(p.value()) + " has no owner", {}, {p});
+    }
+    const CellId c = ctx.layout.cell(o);
+    if (c != ctx.inner[p] && c != ctx.outer[p]) {
+      return make_conflict(3, ctx.describe(o) + " owns patch " + std::to_string(p.value()) +
+                                  ", which does not bound its cell",
+                           {o}, {p});
+    }
+    st.slot[ctx.slot(o, p)] = kOwned;
+    st.owner[p] = o;
+  }
+  for (const ImmersionEdge& e : im.edges) {
+    const PatchId p = e.patch;
+    if (!p.is_valid() || p.index() >= ctx.patch_count() || !is_node(e.inner) || !is_node(e.outer) ||
+        ctx.layout.cell(e.inner) != ctx.inner[p] || ctx.layout.cell(e.outer) != ctx.outer[p]) {
+      return make_conflict(1, "an edge does not join copies of the two sides of its patch", {}, {});
+    }
+    for (const auto& [x, y] : {std::pair{e.inner, e.outer}, std::pair{e.outer, e.inner}}) {
+      std::int32_t& v = st.slot[ctx.slot(x, p)];
+      if (v == kOwned) {
+        return make_conflict(2, ctx.describe(x) + " owns patch " + std::to_string(p.value()) +
+                                    " and has an edge across it",
+                             {x, y}, {p});
+      }
+      if (v >= 0) {
+        return make_conflict(1, ctx.describe(x) + " has two edges across patch " +
+                                    std::to_string(p.value()),
+                             {x, y, NodeId(v)}, {p});
+      }
+      v = y.value();
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace detail
+
+template <int D>
+std::optional<Conflict> check_rules(const CellComplex<D>& complex, const Immersion& immersion) {
+  const detail::RuleContext ctx(complex);
+  detail::SearchState st;
+  if (std::optional<Conflict> c = detail::state_of_immersion(ctx, immersion, st)) return c;
+  return detail::check_all_rules(ctx, st);
 }
 
 template <int D>

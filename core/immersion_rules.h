@@ -10,7 +10,9 @@
 //  - as a *propagator* that, given a partial state, derives the decisions the rule forces (or
 //    reports a conflict), used to reach a fixpoint after each search decision;
 //  - as a *predicate* `check_rule_k` over a complete state, run on every candidate immersion before
-//    it is accepted, so that an incomplete propagator can never let a wrong graph through.
+//    it is accepted, so that an incomplete propagator can never let a wrong graph through. The
+//    predicates are written from the rules' statements in §5.2 and share no code with the
+//    propagators (the arc rules read the complex's geometric-neighbour pairs, not ArcView).
 //
 // Local model of an arc (core/cell_complex.h): junction patches P0..P3 in cyclic order, wedge k
 // between junctions k and k+1, C_k the cell of wedge k (none when its winding number is 0).
@@ -37,6 +39,7 @@
 #include "core/cell_complex.h"
 #include "core/graph_search.h"
 #include "core/immersion_graph.h"
+#include "core/union_find.h"
 
 namespace imm::detail {
 
@@ -82,6 +85,11 @@ class RuleContext {
   IdMap<PatchId, int> outer_local;                ///< index in b_patches[outer], or -1
   IdMap<PatchId, std::vector<ArcId>> patch_arcs;
   IdMap<ArcId, ArcView> arcs;
+  /// Per arc, the geometric-neighbour pairs the complex states for it
+  /// (CellComplex::geometric_neighbors: one per wedge that lies in a cell, with the wedge index).
+  /// Read only by the predicates of Rules 4–6, which are written in the paper's terms; the
+  /// propagators read `arcs`.
+  IdMap<ArcId, std::vector<GeometricNeighbors>> arc_geometric_neighbors;
   IdMap<NodeId, int> slot_base;                   ///< first slot of each node
   std::vector<NodeId> slot_node;                  ///< node of each slot
   std::vector<PatchId> slot_patch;                ///< patch of each slot
@@ -170,17 +178,14 @@ RuleContext::RuleContext(const CellComplex<D>& complex) : layout(complex) {
       IMM_ASSERT(step_k == -step_k2, msg.str());
     }
   }
-  // Groups: union-find over cells.
-  std::vector<int> parent(cells);
-  for (std::size_t i = 0; i < cells; ++i) parent[i] = static_cast<int>(i);
-  const auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  arc_geometric_neighbors = IdMap<ArcId, std::vector<GeometricNeighbors>>(complex.arc_count());
+  for (const GeometricNeighbors& g : complex.geometric_neighbors()) {
+    arc_geometric_neighbors[g.arc].push_back(g);
+  }
+  // Groups: cells linked by a patch or by a common arc fall into one set.
+  UnionFind linked(cells);
   const auto unite = [&](CellId a, CellId b) {
-    if (!a.is_valid() || !b.is_valid()) return;
-    const int ra = find(a.value()), rb = find(b.value());
-    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    if (a.is_valid() && b.is_valid()) linked.unite(a.value(), b.value());
   };
   for (PatchId p : ids<PatchId>(patches)) unite(inner[p], outer[p]);
   for (ArcId a : ids<ArcId>(arcs.size())) {
@@ -194,7 +199,7 @@ RuleContext::RuleContext(const CellComplex<D>& complex) : layout(complex) {
   cell_group = IdMap<CellId, int>(cells, -1);
   std::vector<int> root_group(cells, -1);
   for (CellId c : ids<CellId>(cells)) {
-    const int root = find(c.value());
+    const std::uint32_t root = linked.find(c.value());
     if (root_group[root] < 0) {
       root_group[root] = static_cast<int>(group_cells.size());
       group_cells.emplace_back();
@@ -761,36 +766,15 @@ inline std::optional<Conflict> check_rule6(const RuleContext& ctx, const SearchS
 /// Rule 7: exactly one owner per patch, recorded in `owner`. Paper: §5.2 Rule 7.
 inline std::optional<Conflict> check_rule7(const RuleContext& ctx, const SearchState& st, int group);
 
-/// Runs the propagator of an arc rule on a copy of a complete state: on a complete state a rule
-/// holds iff its propagator derives nothing new and finds no conflict.
-template <class Propagate>
-std::optional<Conflict> check_arc_rule(const RuleContext& ctx, const SearchState& st, int group,
-                                       int rule, Propagate&& propagate) {
-  SearchState copy = st;
-  Worklist worklist(ctx);
-  StateEditor ed(ctx, copy, worklist);
-  for (ArcId a : ids<ArcId>(ctx.arc_count())) {
-    if (group >= 0 && ctx.arc_group[a] != group) continue;
-    if (!propagate(ed, a)) return ed.take_conflict();
-    if (worklist.has_patch()) {
-      Conflict c;
-      c.rule = rule;
-      c.arc = a;
-      c.message = "Rule " + std::to_string(rule) + " at arc " + std::to_string(a.value()) +
-                  ": the complete graph does not satisfy the rule (it would force a change)";
-      return c;
-    }
-  }
-  return std::nullopt;
-}
-
 inline Conflict make_conflict(int rule, std::string message, std::vector<NodeId> nodes,
-                              std::vector<PatchId> patches) {
+                              std::vector<PatchId> patches, ArcId arc = ArcId()) {
   Conflict c;
   c.rule = rule;
-  c.message = "Rule " + std::to_string(rule) + ": " + std::move(message);
+  c.message = "Rule " + std::to_string(rule) + (arc.is_valid() ? " at arc " + std::to_string(arc.value()) : "") +
+              ": " + std::move(message);
   c.nodes = std::move(nodes);
   c.patches = std::move(patches);
+  c.arc = arc;
   return c;
 }
 
@@ -838,14 +822,137 @@ inline std::optional<Conflict> check_rule3(const RuleContext& ctx, const SearchS
   return std::nullopt;
 }
 
+// Rules 4–6 are checked from the paper's statements over the complete graph, with the relations
+// the complex states (geometric neighbours per arc and wedge; the patches of opposite junctions
+// as topological neighbours), and share no code with the propagators above: a propagator that
+// misses a consequence of its rule leaves a complete state that these predicates refuse
+// (SearchStats::rejected counts them). Read on a state that satisfies Rule 1 (check_rule1 runs
+// first), so every partner is a node of the cell across its patch.
+
+/// @return true when n owns p. @pre p is a B-patch of n's cell.
+inline bool owns(const RuleContext& ctx, const SearchState& st, NodeId n, PatchId p) {
+  return st.slot[ctx.slot(n, p)] == kOwned;
+}
+/// @return the node glued to n across p (an edge n–p–m), or an invalid id.
+inline NodeId glued(const RuleContext& ctx, const SearchState& st, NodeId n, PatchId p) {
+  const std::int32_t v = st.slot[ctx.slot(n, p)];
+  return v >= 0 ? NodeId(v) : NodeId();
+}
+/// The nodes of a cell, as ids.
+inline std::vector<NodeId> nodes_of(const RuleContext& ctx, CellId c) {
+  std::vector<NodeId> out;
+  for (int n = ctx.first_node(c).value(); n < ctx.node_end(c); ++n) out.push_back(NodeId(n));
+  return out;
+}
+
 inline std::optional<Conflict> check_rule4(const RuleContext& ctx, const SearchState& st, int group) {
-  return check_arc_rule(ctx, st, group, 4, propagate_rule4);
+  // "If nodes c1, c2 from cells C1, C2 are connected across patch q, and p_i is a B-patch of C_i
+  // and geometric neighbour of q, for i = 1, 2, and p1, p2 are topological neighbours, then either
+  // both c_i own p_i, or both decline p_i. Conversely, if c_i owns p_i for both i = 1, 2, and p1,
+  // p2 are topological neighbours, then c1 and c2 must be connected across q."
+  // At an arc, q is the junction two adjacent wedges share: g1 = (p1, q) bounds C1's wedge and
+  // g2 = (q, p2) the next wedge, C2's. p1 is the junction before q and p2 the one after it:
+  // opposite junctions, one sheet, i.e. topological neighbours (CellComplex::
+  // topological_neighbors). Pairs at different arcs are never combined: the neighbourhoods the
+  // rule speaks of are those of one arc point.
+  for (ArcId a : ids<ArcId>(ctx.arc_count())) {
+    if (group >= 0 && ctx.arc_group[a] != group) continue;
+    const std::vector<GeometricNeighbors>& pairs = ctx.arc_geometric_neighbors[a];
+    for (const GeometricNeighbors& g1 : pairs) {
+      for (const GeometricNeighbors& g2 : pairs) {
+        if (g2.wedge != (g1.wedge + 1) % 4) continue;
+        const PatchId q = g1.second, p1 = g1.first, p2 = g2.second;
+        IMM_ASSERT(q == g2.first, "adjacent wedges do not share their junction");
+        for (NodeId c1 : nodes_of(ctx, g1.cell)) {
+          const NodeId c2 = glued(ctx, st, c1, q);
+          if (!c2.is_valid()) continue;
+          if (owns(ctx, st, c1, p1) != owns(ctx, st, c2, p2)) {
+            const NodeId owner = owns(ctx, st, c1, p1) ? c1 : c2;
+            const NodeId other = owner == c1 ? c2 : c1;
+            return make_conflict(4, ctx.describe(c1) + " and " + ctx.describe(c2) +
+                                        " are connected across patch " + std::to_string(q.value()) +
+                                        ", but only " + ctx.describe(owner) + " owns its side (patches " +
+                                        std::to_string(p1.value()) + " and " +
+                                        std::to_string(p2.value()) + " are one sheet); " +
+                                        ctx.describe(other) + " declines its side",
+                                 {c1, c2}, {p1, q, p2}, a);
+          }
+        }
+        for (NodeId c1 : nodes_of(ctx, g1.cell)) {
+          if (!owns(ctx, st, c1, p1)) continue;
+          for (NodeId c2 : nodes_of(ctx, g2.cell)) {
+            if (!owns(ctx, st, c2, p2) || glued(ctx, st, c1, q) == c2) continue;
+            return make_conflict(4, ctx.describe(c1) + " owns patch " + std::to_string(p1.value()) +
+                                        " and " + ctx.describe(c2) + " owns patch " +
+                                        std::to_string(p2.value()) +
+                                        " (one sheet), but they are not connected across patch " +
+                                        std::to_string(q.value()),
+                                 {c1, c2}, {p1, q, p2}, a);
+          }
+        }
+      }
+    }
+  }
+  return std::nullopt;
 }
+
 inline std::optional<Conflict> check_rule5(const RuleContext& ctx, const SearchState& st, int group) {
-  return check_arc_rule(ctx, st, group, 5, propagate_rule5);
+  // "If a node c from cell C owns a patch p1, and p1 is a geometric neighbour of p2 on C, then c
+  // must decline p2." A pair (p, p) is a patch that is its own geometric neighbour (§4.2): no node
+  // can own it.
+  for (ArcId a : ids<ArcId>(ctx.arc_count())) {
+    if (group >= 0 && ctx.arc_group[a] != group) continue;
+    for (const GeometricNeighbors& g : ctx.arc_geometric_neighbors[a]) {
+      for (NodeId c : nodes_of(ctx, g.cell)) {
+        for (const auto& [p1, p2] : {std::pair{g.first, g.second}, std::pair{g.second, g.first}}) {
+          if (owns(ctx, st, c, p1) && !is_declined(st.slot[ctx.slot(c, p2)])) {
+            return make_conflict(5, ctx.describe(c) + " owns patch " + std::to_string(p1.value()) +
+                                        (p1 == p2 ? ", which is its own geometric neighbour"
+                                                  : " and does not decline its geometric neighbour " +
+                                                        std::to_string(p2.value())),
+                                 {c}, {p1, p2}, a);
+          }
+        }
+      }
+    }
+  }
+  return std::nullopt;
 }
+
 inline std::optional<Conflict> check_rule6(const RuleContext& ctx, const SearchState& st, int group) {
-  return check_arc_rule(ctx, st, group, 6, propagate_rule6);
+  // "If four nodes c, d, e, f surround the same arc A, and x connects to y across a patch that
+  // neighbours A, for (x, y) equalling (c, d) and (d, e) and (e, f), then c must connect to f
+  // across a patch that neighbours A" (also when c = e and/or d = f). Nodes surround A when the
+  // four wedges around it lie in cells; with a wedge of winding number 0 the rule does not apply
+  // (Fig. 15, blue circles). c, d, e, f are taken in the order of the wedges, each connection
+  // across the junction between consecutive wedges, starting at every wedge.
+  for (ArcId a : ids<ArcId>(ctx.arc_count())) {
+    if (group >= 0 && ctx.arc_group[a] != group) continue;
+    const std::vector<GeometricNeighbors>& pairs = ctx.arc_geometric_neighbors[a];
+    if (pairs.size() != 4) continue;
+    std::array<const GeometricNeighbors*, 4> around{};
+    for (const GeometricNeighbors& g : pairs) around[g.wedge] = &g;
+    for (int s = 0; s < 4; ++s) {
+      // The junction after wedge k is the second patch of its geometric-neighbour pair.
+      const auto after = [&](int k) { return around[k % 4]->second; };
+      for (NodeId c : nodes_of(ctx, around[s]->cell)) {
+        const NodeId d = glued(ctx, st, c, after(s));
+        if (!d.is_valid()) continue;
+        const NodeId e = glued(ctx, st, d, after(s + 1));
+        if (!e.is_valid()) continue;
+        const NodeId f = glued(ctx, st, e, after(s + 2));
+        if (!f.is_valid()) continue;
+        if (glued(ctx, st, f, after(s + 3)) == c) continue;
+        return make_conflict(6, ctx.describe(c) + ", " + ctx.describe(d) + ", " + ctx.describe(e) +
+                                    " and " + ctx.describe(f) +
+                                    " are connected in turn around the arc, but the last is not "
+                                    "connected back to the first across patch " +
+                                    std::to_string(after(s + 3).value()),
+                             {c, d, e, f}, {after(s), after(s + 1), after(s + 2), after(s + 3)}, a);
+      }
+    }
+  }
+  return std::nullopt;
 }
 
 inline std::optional<Conflict> check_rule7(const RuleContext& ctx, const SearchState& st, int group) {

@@ -11,4 +11,6 @@ template std::string canonical_form<2>(const CellComplex<2>&, const Immersion&);
 template std::string canonical_form<3>(const CellComplex<3>&, const Immersion&);
 template SearchResult find_immersions<2>(const CellComplex<2>&, const SearchOptions&);
 template SearchResult find_immersions<3>(const CellComplex<3>&, const SearchOptions&);
+template std::optional<Conflict> check_rules<2>(const CellComplex<2>&, const Immersion&);
+template std::optional<Conflict> check_rules<3>(const CellComplex<3>&, const Immersion&);
 }  // namespace imm

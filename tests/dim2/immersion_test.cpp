@@ -51,6 +51,9 @@ void expect_valid_result(const CellComplex<2>& complex, const SearchResult& resu
     EXPECT_TRUE(forms.insert(canonical_form(complex, im)).second) << "two isomorphic immersions";
   }
   EXPECT_EQ(result.status == ImmersionStatus::Immersible, !result.immersions.empty());
+  // Complete graphs are fixpoints of the propagators; one refused by the final rule check means a
+  // propagator missed a consequence of its rule.
+  EXPECT_EQ(result.stats.rejected, 0u) << "complete graphs refused by the final rule check";
 }
 
 /// The curve re-indexed: curves in reverse order, each starting at another vertex.
@@ -123,6 +126,32 @@ TEST(Immersion2Random, SeededMultiComponentSets) {
             << tally.multi_immersion << ", brute-forced " << tally.brute_forced << '\n';
   EXPECT_GE(tally.built, 100);
   EXPECT_GE(tally.immersible, 30);
+}
+
+/// A counter-clockwise square of half side `half` around the origin.
+Curve enclosing_square(double half) {
+  Curve square;
+  square.vertices = {{-half, -half}, {half, -half}, {half, half}, {-half, half}};
+  return square;
+}
+
+/// Seeded loops inside one or two large squares: every crossing lies inside cells, so Rule 6
+/// applies at every arc, and inside two squares every wedge's cell has two copies or more (local
+/// sheets of a wrong graph could go around an arc twice; only Rule 6 forbids it).
+TEST(Immersion2Random, SeededEnclosedLoops) {
+  Tally tally;
+  for (std::uint64_t seed = 2000; seed < 2120; ++seed) {
+    CurveSet curves;
+    curves.curves.push_back(
+        test_support::random_star_curve(seed, 8 + seed % 5, 1000, 0.8, seed % 3 == 2 ? 2 : 1));
+    curves.curves.push_back(enclosing_square(2000));
+    if (seed % 2 == 1) curves.curves.push_back(enclosing_square(3000));
+    run_seeded_curve(curves, seed, tally);
+  }
+  std::cout << "built " << tally.built << ", immersible " << tally.immersible << ", several immersions "
+            << tally.multi_immersion << ", brute-forced " << tally.brute_forced << '\n';
+  EXPECT_GE(tally.built, 80);
+  EXPECT_GE(tally.immersible, 20);
 }
 
 /// A disjoint far-away copy squares the number of immersions (§6.2: components are branched on).

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <numeric>
 #include <random>
 #include <set>
@@ -110,6 +111,8 @@ Summary check_invariants(const Surface& s, bool rotated_volume = false) {
   options.max_immersions = 0;
   options.max_states = 200000;
   const SearchResult sr = find_immersions(c, options);
+  // Complete graphs are fixpoints of the propagators: none may be refused by the final check.
+  EXPECT_EQ(sr.stats.rejected, 0u) << "complete graphs refused by the final rule check";
   std::set<std::string> forms;
   for (const Immersion& im : sr.immersions) {
     const std::vector<std::string> problems = test_support::check_immersion(c, im);
@@ -180,6 +183,31 @@ TEST(Complex3Invariants, SeededRandomBlobs) {
   }
   EXPECT_EQ(immersible, 12);
   EXPECT_GT(arcs, 12u);  // the blobs do intersect
+}
+
+/// Random overlapping blobs inside one or two large blobs: every intersection curve lies inside
+/// cells, so Rule 6 applies at every arc, and inside two every wedge's cell has two copies or more.
+/// The enclosing blobs (radius 7, then 14, +-30 %) clear the inner ones (which reach 4 from the
+/// origin) and each other.
+TEST(Complex3Invariants, SeededEnclosedBlobs) {
+  int immersible = 0;
+  std::size_t arcs = 0;
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937_64 rng(seed + 100);
+    Surface s = merge(random_blobs(3, seed), blob({0, 0, 0}, 7.0, 6, 8, rng));
+    if (seed % 2 == 0) s = merge(s, blob({0, 0, 0}, 14.0, 6, 8, rng));
+    const Summary sum = check_invariants(s);
+    std::cout << "seed " << seed << ": " << sum.arcs << " arcs, " << sum.cells << " cells, max winding "
+              << sum.max_winding << ", " << sum.immersions << " immersion(s)\n";
+    arcs += sum.arcs;
+    // The inner blobs overlap (winding 2 or more), and one or two enclosing blobs add to it.
+    EXPECT_GE(sum.max_winding, seed % 2 == 0 ? 4 : 3);
+    EXPECT_EQ(sum.status, ImmersionStatus::Immersible);  // overlapping balls inside nested balls
+    immersible += sum.immersions >= 1;
+  }
+  EXPECT_EQ(immersible, 4);
+  EXPECT_GT(arcs, 8u);
 }
 
 TEST(Complex3Invariants, MetamorphicRotationReindexingAndFarCopy) {

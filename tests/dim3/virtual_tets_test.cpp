@@ -90,6 +90,47 @@ INSTANTIATE_TEST_SUITE_P(
       return name + "_" + std::to_string(info.index);
     });
 
+/// Near self-intersection (paper §7.1): the comb's teeth are 1/64 apart, far less than a tet, so
+/// the tets at the gap hold two local regions of one region (the comb's only cell): a piece of
+/// each tooth, separated by the gap, which is outside. They must become two tet copies. Checked
+/// through the embedding, independently of how local regions are found: the tips of neighbouring
+/// teeth (input vertices, 1/64 apart, their gap running 6 units up to the bar) are never
+/// connected inside one tet, so when both lie in one background tet they are embedded in two
+/// different copies of it.
+TEST(VirtualTets, TeethInOneTetGetSeparateCopies) {
+  constexpr int kTeeth = 3;
+  const Surface comb_surface = comb(kTeeth);
+  const Prepared p = prepare(comb_surface);
+  MeshOptions3 options;
+  options.resolution = 8;
+  options.threads = 1;
+  const MeshResult3 m = mesh(p, options);
+  ASSERT_EQ(m.embedding.size(), comb_surface.vertex_count());
+  // comb(): per z level, 2D points bottom(k) = k, base(k) = b + k, top(k) = 2 b + k for the
+  // b = 2 t breakpoints; tooth i spans breakpoints 2 i (left) and 2 i + 1 (right); the z = 1
+  // level follows the z = 0 level.
+  const std::size_t breakpoints = 2 * kTeeth, per_level = 3 * breakpoints;
+  int shared = 0;
+  for (int gap = 0; gap + 1 < kTeeth; ++gap) {
+    for (std::size_t level : {std::size_t{0}, per_level}) {
+      const std::size_t right_tip = level + static_cast<std::size_t>(2 * gap + 1);
+      const std::size_t left_tip = level + static_cast<std::size_t>(2 * gap + 2);
+      ASSERT_DOUBLE_EQ(comb_surface.vertices[left_tip][0] - comb_surface.vertices[right_tip][0], 1.0 / 64);
+      ASSERT_EQ(comb_surface.vertices[left_tip][1], -6.0);
+      const int a = m.embedding[right_tip].element, b = m.embedding[left_tip].element;
+      ASSERT_GE(a, 0);
+      ASSERT_GE(b, 0);
+      if (m.background_tet[static_cast<std::size_t>(a)] != m.background_tet[static_cast<std::size_t>(b)]) continue;
+      ++shared;
+      EXPECT_NE(a, b) << "the tips of teeth " << gap << " and " << gap + 1
+                      << " are embedded in one copy of background tet "
+                      << m.background_tet[static_cast<std::size_t>(a)];
+    }
+  }
+  EXPECT_GE(shared, 2);  // not vacuous: the gap lies inside tets
+  EXPECT_GT(m.stats.cut_tets, 0u);
+}
+
 /// The Kuhn grid of [lo, lo + n h]^3 as a background file would give it: lattice points at
 /// exact multiples of h (so a box input with vertices on the lattice touches it everywhere).
 TetMesh aligned_grid(double lo, double h, int n) {

@@ -38,7 +38,9 @@ double brute_force_candidate_count(const CellComplex<D>& complex) {
 }
 
 template <int D>
-BruteForceResult brute_force_immersions(const CellComplex<D>& complex, std::size_t max_candidates) {
+std::size_t for_each_candidate(const CellComplex<D>& complex,
+                               const std::function<void(const Immersion&)>& visit,
+                               std::size_t max_candidates) {
   IMM_ASSERT(brute_force_candidate_count(complex) <= static_cast<double>(max_candidates),
              "brute force: too many candidate graphs");
   const NodeLayout layout(complex);
@@ -71,6 +73,30 @@ BruteForceResult brute_force_immersions(const CellComplex<D>& complex, std::size
     }
   }
 
+  std::size_t count = 0;
+  std::vector<std::size_t> pick(complex.patch_count(), 0);
+  while (true) {
+    ++count;
+    Immersion im;
+    im.layout = layout;
+    im.owner = IdMap<PatchId, NodeId>(complex.patch_count());
+    for (std::size_t i = 0; i < complex.patch_count(); ++i) {
+      const PatchChoice& choice = choices[i][pick[i]];
+      im.owner[PatchId(i)] = choice.owner;
+      im.edges.insert(im.edges.end(), choice.edges.begin(), choice.edges.end());
+    }
+    std::sort(im.edges.begin(), im.edges.end());
+    visit(im);
+    std::size_t i = 0;
+    while (i < pick.size() && ++pick[i] == choices[i].size()) pick[i++] = 0;
+    if (i == pick.size()) break;
+  }
+  return count;
+}
+
+template <int D>
+BruteForceResult brute_force_immersions(const CellComplex<D>& complex, std::size_t max_candidates) {
+  const NodeLayout layout(complex);
   // Relabellings: every permutation of the copies of every cell.
   std::vector<std::vector<std::vector<int>>> cell_perms(complex.cell_count());
   double relabellings = 1;
@@ -107,31 +133,21 @@ BruteForceResult brute_force_immersions(const CellComplex<D>& complex, std::size
 
   BruteForceResult result;
   std::map<std::vector<int>, std::size_t> classes;
-  std::vector<std::size_t> pick(complex.patch_count(), 0);
-  while (true) {
-    ++result.candidates;
-    Immersion im;
-    im.layout = layout;
-    im.owner = IdMap<PatchId, NodeId>(complex.patch_count());
-    for (std::size_t i = 0; i < complex.patch_count(); ++i) {
-      const PatchChoice& choice = choices[i][pick[i]];
-      im.owner[PatchId(i)] = choice.owner;
-      im.edges.insert(im.edges.end(), choice.edges.begin(), choice.edges.end());
-    }
-    std::sort(im.edges.begin(), im.edges.end());
-    if (check_immersion(complex, im).empty()) {
-      ++result.valid;
-      if (classes.emplace(iso_key(im), result.classes.size()).second) {
-        result.classes.push_back(std::move(im));
-      }
-    }
-    std::size_t i = 0;
-    while (i < pick.size() && ++pick[i] == choices[i].size()) pick[i++] = 0;
-    if (i == pick.size()) break;
-  }
+  result.candidates = for_each_candidate(
+      complex,
+      [&](const Immersion& im) {
+        if (!check_immersion(complex, im).empty()) return;
+        ++result.valid;
+        if (classes.emplace(iso_key(im), result.classes.size()).second) result.classes.push_back(im);
+      },
+      max_candidates);
   return result;
 }
 
+template std::size_t for_each_candidate<2>(const CellComplex<2>&,
+                                           const std::function<void(const Immersion&)>&, std::size_t);
+template std::size_t for_each_candidate<3>(const CellComplex<3>&,
+                                           const std::function<void(const Immersion&)>&, std::size_t);
 template double brute_force_candidate_count<2>(const CellComplex<2>&);
 template double brute_force_candidate_count<3>(const CellComplex<3>&);
 template BruteForceResult brute_force_immersions<2>(const CellComplex<2>&, std::size_t);

@@ -215,10 +215,16 @@ ComplexSpec fig9() {
   return s;
 }
 
-ComplexSpec random_complex(std::uint64_t seed, int max_winding, int arcs) {
+namespace {
+
+/// Regions of winding numbers 0..max_winding (one or two per level) and `arcs` arcs with the
+/// winding pattern (w, w + 1, w + 2, w + 1) up to rotation, w drawn from min_base..max_winding - 2;
+/// half of the arcs self-touching, patches reused between the same two regions two times in three.
+ComplexSpec random_arcs(std::uint64_t seed, const std::string& name, int max_winding, int min_base,
+                        int arcs) {
   Rng rng(seed);
   ComplexSpec s;
-  s.name = "random " + std::to_string(seed);
+  s.name = name + " " + std::to_string(seed);
   std::vector<std::vector<int>> level(static_cast<std::size_t>(max_winding) + 1);
   s.regions.push_back({0, true});
   level[0].push_back(0);
@@ -240,7 +246,7 @@ ComplexSpec random_complex(std::uint64_t seed, int max_winding, int arcs) {
     return static_cast<int>(s.patches.size()) - 1;
   };
   for (int i = 0; i < arcs; ++i) {
-    const int base = rng.below(max_winding - 1);
+    const int base = min_base + rng.below(max_winding - 1 - min_base);
     const int turn = rng.below(4);
     constexpr std::array<int, 4> kPattern{0, 1, 2, 1};
     ComplexSpec::Arc arc;
@@ -262,6 +268,16 @@ ComplexSpec random_complex(std::uint64_t seed, int max_winding, int arcs) {
     if (!has) patch_between(static_cast<int>(r), pick(w - 1), false);
   }
   return s;
+}
+
+}  // namespace
+
+ComplexSpec random_complex(std::uint64_t seed, int max_winding, int arcs) {
+  return random_arcs(seed, "random", max_winding, /*min_base=*/0, arcs);
+}
+
+ComplexSpec random_enclosed_complex(std::uint64_t seed, int arcs) {
+  return random_arcs(seed, "random enclosed", /*max_winding=*/4, /*min_base=*/1, arcs);
 }
 
 }  // namespace imm::test_support

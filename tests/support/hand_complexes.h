@@ -80,4 +80,12 @@ ComplexSpec fig9();
 /// crossing sheets. Patches may repeat at adjacent junctions and regions at several wedges.
 ComplexSpec random_complex(std::uint64_t seed, int max_winding, int arcs);
 
+/// A random abstract complex like random_complex whose arcs are all *enclosed*: each has the
+/// wedge winding numbers (w, w + 1, w + 2, w + 1) with w = 1 or 2 (winding numbers up to 4), so
+/// all four wedges lie in cells and Rule 6 applies at every arc. Where w = 2 every wedge's cell has
+/// two copies or more, so a wrong graph can have local sheets going around the arc twice, which
+/// only Rule 6 forbids (with w = 1 the single copy of the lowest wedge prevents it). random_complex
+/// rarely has such arcs within a brute-forceable size.
+ComplexSpec random_enclosed_complex(std::uint64_t seed, int arcs);
+
 }  // namespace imm::test_support
