@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
     for (std::size_t t = 0; t < mesh.mesh.tets.size(); ++t) style.flag[t] = copies[mesh.background_tet[t]] > 1;
     style.cut = render::cut_across(render::tet_mesh_bounds(mesh.mesh), 1, 0.5);
     render::Scene cut = render::tet_mesh_scene(mesh.mesh, style);
-    cut.view = render::View{0, 20, 2};
+    cut.view = render::view_facing_cut(1, false, 2);
     if (const auto image = figures::picture(args, cut, "fig1_cutaway.png",
                                             "cut-away: duplicated background tets highlighted"))
       figures::expect(figures::hue_pixels(*image, style.highlight) > 0,

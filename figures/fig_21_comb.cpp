@@ -111,14 +111,37 @@ int main(int argc, char** argv) {
       style.edges = !args.quick;
       style.flag.resize(r.mesh.mesh.tets.size());
       for (std::size_t t = 0; t < style.flag.size(); ++t) style.flag[t] = copies[r.mesh.background_tet[t]] > 1;
-      render::Scene scene = render::tet_mesh_scene(r.mesh.mesh, style);
-      scene.view = render::View{25, 30, 1};
+      // Cut-away across the axis that exposes the most duplicated tets (the lips of the mouth
+      // are inside the head), at the duplicated tets' middle.
+      const dim3::Box3 box = render::tet_mesh_bounds(r.mesh.mesh);
+      render::Scene scene;
+      std::size_t best = 0;
+      for (int axis = 0; axis < 3; ++axis) {
+        std::vector<double> along;
+        for (std::size_t t = 0; t < style.flag.size(); ++t)
+          if (style.flag[t]) along.push_back(r.mesh.mesh.vertices[r.mesh.mesh.tets[t][0]][axis]);
+        if (along.empty()) break;
+        std::nth_element(along.begin(), along.begin() + along.size() / 2, along.end());
+        const double fraction = (along[along.size() / 2] - box.lo[axis]) / (box.hi[axis] - box.lo[axis]);
+        render::TetStyle cut_style = style;
+        cut_style.cut = render::cut_across(box, axis, fraction);
+        render::Scene candidate = render::tet_mesh_scene(r.mesh.mesh, cut_style);
+        std::size_t shown = 0;
+        for (const render::Part& part : candidate.parts)
+          if (part.color == style.highlight) shown += part.triangles.size();
+        if (shown > best) {
+          best = shown;
+          scene = std::move(candidate);
+          scene.view = render::view_facing_cut(axis, false, 1);
+        }
+      }
+      figures::expect(best > 0, r.name + ": a cut-away exposes duplicated tets");
       if (const auto image = figures::picture(args, scene, "fig21_" + file + "_tets.png",
-                                              r.name + ": output tets, duplicated copies orange"))
+                                              r.name + ": cut-away, copies of duplicated background tets orange"))
         figures::expect(figures::hue_pixels(*image, style.highlight) > 0,
                         r.name + ": the picture shows duplicated tets");
       render::Scene input = render::surface_scene(r.surface);
-      input.view = scene.view;
+      input.view = render::View{25, 30, 1};
       if (const auto image = figures::picture(args, input, "fig21_" + file + "_input.png", r.name + ": input"))
         figures::expect(figures::hue_pixels(*image, render::colors::kIntersecting) == 0,
                         r.name + ": no red in the input picture (it does not intersect itself)");

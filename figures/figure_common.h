@@ -163,7 +163,7 @@ inline void svg_preview(const FigureArgs& args, const std::string& svg_file) {
 
 /// Counts pixels of a meaningful colour (palette hue or red) in a picture.
 inline std::size_t hue_pixels(const render::Image& image, const render::Color& color) {
-  return render::count_hue(image, render::HueQuery{render::color_hue(color), 12.0, 0.3, 0.1});
+  return render::count_hue(image, render::query_for(color));
 }
 
 /// A named generator through the exact complex and the search (all immersions).

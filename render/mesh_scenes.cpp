@@ -67,6 +67,15 @@ CutPlane cut_across(const dim3::Box3& bounds, int axis, double fraction, bool ke
   return plane;
 }
 
+View view_facing_cut(int axis, bool keep_upper, int up) {
+  // fit_camera's frame: azimuth 0 looks from +front ((up + 1) % 3), 90 from +side ((up + 2) % 3).
+  up = ((up % 3) + 3) % 3;
+  axis = ((axis % 3) + 3) % 3;
+  if (axis == up) return View{30, keep_upper ? -45.0 : 50.0, up};
+  const double azimuth = axis == (up + 1) % 3 ? 25.0 : 65.0;
+  return View{keep_upper ? azimuth + 180.0 : azimuth, 25.0, up};
+}
+
 Scene tet_mesh_scene(const dim3::TetMesh& mesh, const TetStyle& style) {
   Scene scene;
   const std::size_t tets = mesh.tets.size();

@@ -40,6 +40,9 @@ struct CutPlane {
 /// side (or the upper side when `keep_upper`).
 CutPlane cut_across(const dim3::Box3& bounds, int axis, double fraction, bool keep_upper = false);
 dim3::Box3 tet_mesh_bounds(const dim3::TetMesh& mesh);
+/// A view looking obliquely at the face a cut_across(axis, ..., keep_upper) leaves open, with
+/// `up` the world axis pointing up in the picture.
+View view_facing_cut(int axis, bool keep_upper, int up = 1);
 
 struct TetStyle {
   enum class ColorBy {

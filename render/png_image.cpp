@@ -52,6 +52,11 @@ double color_hue(const Color& c) {
   return pixel_hue(q(c.r), q(c.g), q(c.b));
 }
 
+HueQuery query_for(const Color& c) {
+  auto q = [](double v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255)); };
+  return HueQuery{color_hue(c), 12.0, 0.6 * pixel_saturation(q(c.r), q(c.g), q(c.b)), 0.15};
+}
+
 std::size_t count_non_background(const Image& image, const Color& background, int tolerance) {
   const int br = static_cast<int>(std::lround(background.r * 255));
   const int bg = static_cast<int>(std::lround(background.g * 255));

@@ -50,6 +50,10 @@ struct HueQuery {
   double min_saturation = 0.35;
   double min_value = 0.12;
 };
+/// The query for pixels showing `color` lit in any way: its hue within 12 degrees, saturation at
+/// least 60% of the colour's own (antialiased mixtures of two colours, and dark shades whose
+/// rounding moves the hue, fall below it).
+HueQuery query_for(const Color& color);
 std::size_t count_hue(const Image& image, const HueQuery& query);
 std::size_t count_hue(const Image& image, const HueQuery& query, int x0, int y0, int x1, int y1);
 

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 
@@ -33,7 +35,8 @@ A picture of a surface, a tet mesh or 2D curves (POV-Ray for 3D, rsvg-convert fo
 options:
   -o, --output OUT.png   the picture (written atomically)
   --size WxH             picture size in pixels (default 800x600)
-  --view AZ,EL           camera azimuth and elevation in degrees (default 35,25)
+  --view AZ,EL           camera azimuth and elevation in degrees (default 35,25; with --cut,
+                         a view facing the cut)
   --up x|y|z             the world axis that points up in the picture (default y)
   --cut AXIS=F           cut-away (tet meshes): keep the tets whose centroid lies below the plane
                          across AXIS at fraction F of the box (e.g. z=0.5); -AXIS=F keeps the
@@ -86,6 +89,7 @@ int run_render_command(const std::vector<std::string>& args, std::ostream& out, 
   std::string input, output;
   RenderOptions options;
   View view;
+  bool view_given = false;
   std::optional<std::pair<int, double>> cut;
   bool keep_upper = false;
   double explode = 0.0;
@@ -119,6 +123,7 @@ int run_render_command(const std::vector<std::string>& args, std::ostream& out, 
       if (!az || !el || *el < -89 || *el > 89) return usage("--view expects AZ,EL with EL in [-89, 89]");
       view.azimuth = *az;
       view.elevation = *el;
+      view_given = true;
     } else if (a == "--up") {
       const auto v = value();
       const int axis = v ? axis_of(*v) : -1;
@@ -248,6 +253,7 @@ int run_render_command(const std::vector<std::string>& args, std::ostream& out, 
   }
   scene.ground = ground;
   scene.view = view;
+  if (cut && !view_given) scene.view = view_facing_cut(cut->first, keep_upper, view.up);
   const RenderStatus status = render_png(scene, output, options);
   if (!status.ok()) {
     err << "immerse render: " << status.error << '\n';

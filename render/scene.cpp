@@ -10,7 +10,7 @@ namespace imm::render {
 namespace {
 
 // Hues at least 30 degrees apart and at least 30 degrees from red (intersecting triangles).
-constexpr std::array<double, 7> kPaletteHues{212, 32, 120, 275, 178, 55, 318};
+constexpr std::array<double, 7> kPaletteHues{212, 36, 120, 275, 178, 62, 318};
 
 Color from_hsv(double hue, double saturation, double value) {
   const double h = std::fmod(hue, 360.0) / 60.0;

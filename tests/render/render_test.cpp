@@ -78,7 +78,7 @@ Image render_to_image(const Scene& scene, const fs::path& png, int w = kW, int h
   return read.image;
 }
 
-HueQuery hue_of(const Color& c) { return HueQuery{color_hue(c), 12.0, 0.3, 0.1}; }
+HueQuery hue_of(const Color& c) { return query_for(c); }
 
 /// Pixel box of the pixels that differ from the background.
 struct PixelBox {
