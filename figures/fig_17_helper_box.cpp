@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
       torus_part.smooth = true;
       box_part.name = "helper box";
       box_part.color = render::colors::kHelper;
+      box_part.transmit = 0.65;  // see-through: the torus stays visible inside it
       box_part.edges = true;
       scene.parts = {torus_part, box_part};
       scene.view = render::View{-25, 35, 2};

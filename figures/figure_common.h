@@ -150,6 +150,7 @@ inline void svg_preview(const FigureArgs& args, const std::string& svg_file) {
   const render::ConvertStatus status =
       render::svg_to_png(args.out + "/" + svg_file, args.out + "/" + png_file, picture_width(args));
   if (status.converter_missing) {
+    std::cout << "skipped picture " << args.out << "/" << png_file << ": " << status.error << '\n';
     record().skipped.push_back(png_file + ": " + status.error);
     return;
   }

@@ -55,8 +55,10 @@ Vec3 normalized(const Vec3& a) {
 constexpr const char* kFinish = "finish { ambient 0.16 diffuse 0.72 specular 0.12 roughness 0.04 }";
 constexpr int kScalarLevels = 64;
 
-void write_texture(std::ostream& os, const Color& c) {
-  os << "texture { pigment { color " << c << " } " << kFinish << " }";
+void write_texture(std::ostream& os, const Color& c, double transmit = 0.0) {
+  os << "texture { pigment { color " << c;
+  if (transmit > 0) os << " transmit " << Num{std::min(transmit, 1.0)};
+  os << " } " << kFinish << " }";
 }
 
 int scalar_level(double s, const ScalarRange& range) {
@@ -115,7 +117,7 @@ void write_part(std::ostream& os, const Part& part, const std::optional<ScalarRa
     os << "  texture_list { " << list.size();
     for (const Color& c : list) {
       os << ",\n    ";
-      write_texture(os, c);
+      write_texture(os, c, part.transmit);
     }
     os << " }\n  face_indices { " << part.triangles.size();
     for (std::size_t i = 0; i < part.triangles.size(); ++i) {
@@ -129,7 +131,7 @@ void write_part(std::ostream& os, const Part& part, const std::optional<ScalarRa
     os << " }\n";
   }
   os << "  ";
-  write_texture(os, part.color);
+  write_texture(os, part.color, part.transmit);
   os << "\n}\n";
   if (part.edges) {
     std::set<std::pair<std::uint32_t, std::uint32_t>> edges;

@@ -57,6 +57,7 @@ struct Part {
   std::vector<Color> triangle_colors;  ///< per triangle, or empty
   std::vector<double> vertex_scalar;   ///< per vertex, or empty
   bool smooth = false;                 ///< area-weighted vertex normals (smooth surfaces)
+  double transmit = 0.0;               ///< 0 opaque .. 1 invisible (see-through helper boxes)
   /// Draw every edge of the part as a thin dark tube (element edges of a mesh boundary).
   bool edges = false;
 };
