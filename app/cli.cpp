@@ -41,6 +41,7 @@
 #include "dim2/generators.h"
 #include "dim2/mesh2.h"
 #include "dim2/svg.h"
+#include "render/render_command.h"
 
 namespace imm::cli {
 namespace {
@@ -61,6 +62,7 @@ commands:
   immersions IN [options]          the immersion search (paper §6, Algorithm 1)
   mesh IN [options]                mesh one immersion (paper §7): triangles in 2D, tets in 3D
   generate NAME [PARAMS] [-o OUT]  procedural curves and surfaces; 'generate --list' names them
+  render IN -o OUT.png [options]   a picture of a surface, tet mesh or curves (POV-Ray, rsvg-convert)
   help [COMMAND]                   this text, or the options of one command (also CMD --help)
 
 input: the dimension is taken from the file.
@@ -1007,6 +1009,10 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   const std::string& command = args[0];
   if (command == "--help" || command == "-h" || command == "help") {
     if (args.size() > 2) return usage_error(env, "", "'help' takes at most one command name");
+    if (args.size() == 2 && command == "help" && args[1] == "render") {
+      env.out << render::render_command_help();
+      return kExitOk;
+    }
     if (args.size() == 2 && command == "help") {
       const CommandSpec* spec = find_command(args[1]);
       if (spec == nullptr) return usage_error(env, "", "unknown command '" + args[1] + "'");
@@ -1017,6 +1023,8 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
     env.out << kMainHelp;
     return kExitOk;
   }
+  if (command == "render")  // its own options (render/render_command.h)
+    return render::run_render_command(std::vector<std::string>(args.begin() + 1, args.end()), env.out, env.err);
   const CommandSpec* spec = find_command(command);
   if (spec == nullptr) {
     if (!command.empty() && command[0] == '-') return usage_error(env, "", "unknown option '" + command + "'");

@@ -8,6 +8,7 @@ using namespace imm;
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "fig_05_basic_steps");
+    figures::describe("Fig. 5", "basic steps in 2D: cells, patches and arcs; the largest cell self-touches; the triangulated cells are duplicated and connected into an immersed disk.");
     const auto run = figures::run_curve("fig5");
     const dim2::Complex2& complex = *run.built.complex;
     const CellComplex<2>& cx = complex.complex;

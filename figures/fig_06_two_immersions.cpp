@@ -8,6 +8,7 @@ using namespace imm;
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "fig_06_two_immersions");
+    figures::describe("Fig. 6", "a self-overlapping curve with two distinct immersions; both are found and meshed.");
     const auto run = figures::run_curve("fig6");
     const dim2::Complex2& complex = *run.built.complex;
     figures::expect(run.search.complete && run.search.immersions.size() == 2,

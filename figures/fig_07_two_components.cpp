@@ -7,6 +7,7 @@ using namespace imm;
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "fig_07_two_components");
+    figures::describe("Fig. 7", "an input of two components forming an egg-shaped hole has one immersion, meshed unglued.");
     const auto run = figures::run_curve("fig7");
     const dim2::Complex2& complex = *run.built.complex;
     figures::expect(run.search.complete && run.search.immersions.size() == 1, "Fig. 7 has one immersion");

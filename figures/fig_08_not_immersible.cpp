@@ -7,6 +7,7 @@ using namespace imm;
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "fig_08_not_immersible");
+    figures::describe("Fig. 8", "curves that are not boundaries of immersions.");
     std::ostringstream md;
     md << "# Fig. 8: not immersible\n\n| curve | verdict | reason |\n|---|---|---|\n";
     for (const char* name : {"fig8", "limacon", "figure-eight"}) {

@@ -8,6 +8,7 @@ using namespace imm;
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "fig_09_cell_complex");
+    figures::describe("Fig. 9 / Fig. 11", "a 2D curve has 4 cells, 8 patches and 4 arcs; cell 0 self-touches at an arc.");
     const auto run = figures::run_curve("fig9");
     const CellComplex<2>& cx = run.built.complex->complex;
     figures::expect(cx.cell_count() == 4 && cx.patch_count() == 8 && cx.arc_count() == 4,

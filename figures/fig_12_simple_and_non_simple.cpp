@@ -7,6 +7,7 @@ using namespace imm;
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "fig_12_simple_and_non_simple");
+    figures::describe("Fig. 12", "a disk immersion is simple; a ring immersion that wraps a cell twice is not.");
     const auto simple = figures::run_curve("fig12-simple");
     figures::expect(simple.search.immersions.size() == 1, "Fig. 12 top has one simple immersion");
     figures::write(args, "fig12_simple.svg",

@@ -9,6 +9,7 @@ using namespace imm;
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "fig_16_rule6_trace");
+    figures::describe("Fig. 15 / Fig. 16", "Rule 6 at four-patch and three-patch arcs; the algorithm builds the immersion graph.");
     const auto run = figures::run_curve("fig15");
     const dim2::Complex2& complex = *run.built.complex;
     const CellComplex<2>& cx = complex.complex;

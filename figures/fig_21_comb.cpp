@@ -15,6 +15,7 @@
 #include "dim3/mesh3.h"
 #include "dim3/self_connecting.h"
 #include "figures/figure_common.h"
+#include "render/mesh_scenes.h"
 
 using namespace imm;
 
@@ -22,6 +23,7 @@ namespace {
 
 struct CombRun {
   std::string name;
+  dim3::Surface surface;
   std::size_t triangles = 0;
   dim3::MeshResult3 mesh;
   std::size_t duplicated = 0;  ///< background tets with more copies than their cell's winding number
@@ -55,7 +57,7 @@ CombRun run(const std::string& name, const dim3::Surface& surface, const dim3::M
                   name + " is immersible");
   const CellComplex<3>& c = im.build.complex->complex;
   figures::expect(c.cell_count() == 1 && c.arc_count() == 0, name + " has no self-intersection: one cell");
-  CombRun r{name, surface.triangle_count(),
+  CombRun r{name, surface, surface.triangle_count(),
             dim3::mesh_immersion3(*im.build.complex, im.search.immersions.front(), options, im.input_vertices,
                                   im.input_triangles)};
   figures::expect(r.mesh.report.ok(), name + " meshes: " + r.mesh.report.summary());
@@ -71,6 +73,9 @@ CombRun run(const std::string& name, const dim3::Surface& surface, const dim3::M
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "fig_21_comb");
+    figures::describe("Fig. 21 (and Fig. 18)",
+                      "tet vertices are duplicated to embed a comb: a tet spanning the gap between two teeth "
+                      "is copied once per tooth, so nearly touching parts are not welded.");
     std::vector<CombRun> runs;
     dim3::MeshOptions3 grid;
     grid.resolution = args.quick ? 16 : 40;
@@ -97,6 +102,49 @@ int main(int argc, char** argv) {
       std::string file = r.name.substr(0, r.name.find(' '));
       std::replace(file.begin(), file.end(), '.', '_');
       figures::write(args, "fig21_" + file + ".vtu", dim3::format_vtu(r.mesh.mesh));
+      // Picture: the output's boundary with the copies of duplicated background tets highlighted
+      // (orange) and the input surface beside it.
+      std::map<int, std::size_t> copies;
+      for (int t : r.mesh.background_tet) ++copies[t];
+      render::TetStyle style;
+      style.color_by = render::TetStyle::ColorBy::Flag;
+      style.edges = !args.quick;
+      style.flag.resize(r.mesh.mesh.tets.size());
+      for (std::size_t t = 0; t < style.flag.size(); ++t) style.flag[t] = copies[r.mesh.background_tet[t]] > 1;
+      // Cut-away across the axis that exposes the most duplicated tets (the lips of the mouth
+      // are inside the head), at the duplicated tets' middle.
+      const dim3::Box3 box = render::tet_mesh_bounds(r.mesh.mesh);
+      render::Scene scene;
+      std::size_t best = 0;
+      for (int axis = 0; axis < 3; ++axis) {
+        std::vector<double> along;
+        for (std::size_t t = 0; t < style.flag.size(); ++t)
+          if (style.flag[t]) along.push_back(r.mesh.mesh.vertices[r.mesh.mesh.tets[t][0]][axis]);
+        if (along.empty()) break;
+        std::nth_element(along.begin(), along.begin() + along.size() / 2, along.end());
+        const double fraction = (along[along.size() / 2] - box.lo[axis]) / (box.hi[axis] - box.lo[axis]);
+        render::TetStyle cut_style = style;
+        cut_style.cut = render::cut_across(box, axis, fraction);
+        render::Scene candidate = render::tet_mesh_scene(r.mesh.mesh, cut_style);
+        std::size_t shown = 0;
+        for (const render::Part& part : candidate.parts)
+          if (part.color == style.highlight) shown += part.triangles.size();
+        if (shown > best) {
+          best = shown;
+          scene = std::move(candidate);
+          scene.view = render::view_facing_cut(axis, false, 1);
+        }
+      }
+      figures::expect(best > 0, r.name + ": a cut-away exposes duplicated tets");
+      if (const auto image = figures::picture(args, scene, "fig21_" + file + "_tets.png",
+                                              r.name + ": cut-away, copies of duplicated background tets orange"))
+        figures::expect(figures::hue_pixels(*image, style.highlight) > 0,
+                        r.name + ": the picture shows duplicated tets");
+      render::Scene input = render::surface_scene(r.surface);
+      input.view = render::View{25, 30, 1};
+      if (const auto image = figures::picture(args, input, "fig21_" + file + "_input.png", r.name + ": input"))
+        figures::expect(figures::hue_pixels(*image, render::colors::kIntersecting) == 0,
+                        r.name + ": no red in the input picture (it does not intersect itself)");
     }
     md << "\nA duplicated background tet holds two local regions of the one cell (two teeth, or two\n"
           "lips, on either side of a gap narrower than the tet): without virtual tets it would weld\n"

@@ -26,6 +26,7 @@
 #include "dim3/surface.h"
 #include "dim3/tet_mesh.h"
 #include "figures/figure_common.h"
+#include "render/mesh_scenes.h"
 
 using namespace imm;
 
@@ -66,6 +67,8 @@ struct Row {
   std::size_t output_tets = 0;
   double t_cell = 0, t_imm = 0, t_mesh = 0, t_total = 0;
   dim3::TetMesh mesh;  ///< kept to write the smallest one
+  dim3::Surface surface;       ///< the input, for its picture
+  std::vector<bool> crossing;  ///< per input triangle: intersects another (red in the picture)
 };
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -137,6 +140,9 @@ Row run(const std::string& model, const std::string& paper, const dim3::Surface&
   r.t_cell = im.build_seconds;
   r.t_imm = im.search_seconds;
   r.mesh = std::move(mesh.mesh);
+  r.surface = surface;
+  r.crossing = render::intersecting_triangles(*im.build.complex);
+  r.crossing.resize(surface.triangle_count());  // the user's triangles (helper boxes come after)
 
   figures::expect(r.cells >= 1 && r.patches >= 1 && r.max_winding >= 1, model + ": a non-empty complex");
   figures::expect(r.output_tets == r.mesh.tets.size() && r.output_tets > 0,
@@ -207,6 +213,9 @@ std::string seconds(double s) {
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "table_1");
+    figures::describe("Table 1 (models of Figs. 1-3, 22, 24)",
+                      "per model: vertices, triangles, genus, cells, patches, arcs, max winding, output tets "
+                      "and times; the models' collided faces are red in their pictures.");
     const bool q = args.quick;
     dim3::MeshOptions3 grid;
     grid.resolution = q ? 8 : 24;
@@ -255,6 +264,30 @@ int main(int argc, char** argv) {
     figures::expect(back.mesh.tets.size() == smallest->output_tets,
                     mesh_file + ": " + std::to_string(back.mesh.tets.size()) + " tets in the file, the table says " +
                         std::to_string(smallest->output_tets));
+
+    // Pictures: every model with its intersecting triangles red; the smallest output's tets by
+    // graph node, pulled apart.
+    for (const Row& r : rows) {
+      std::string file = r.paper;
+      std::replace_if(file.begin(), file.end(), [](char ch) { return !std::isalnum(static_cast<unsigned char>(ch)); }, '_');
+      if (r.model.find(".obj") != std::string::npos) file += "_obj";
+      const std::size_t red = static_cast<std::size_t>(std::count(r.crossing.begin(), r.crossing.end(), true));
+      render::Scene scene;
+      scene.parts.push_back(render::surface_part(r.surface, r.crossing, render::colors::kSurface, true));
+      scene.view = render::View{30, 30, 2};
+      if (const auto image = figures::picture(args, scene, "table1_" + file + ".png",
+                                              r.model + " (" + std::to_string(red) + " intersecting triangles red)"))
+        figures::expect((figures::hue_pixels(*image, render::colors::kIntersecting) > 0) == (red > 0),
+                        r.model + ": red pixels in its picture exactly when it has intersecting triangles");
+    }
+    {
+      render::TetStyle style;
+      style.explode = 0.25;
+      style.edges = !q;
+      render::Scene scene = render::tet_mesh_scene(smallest->mesh, style);
+      scene.view = render::View{30, 30, 2};
+      figures::picture(args, scene, "table1_" + stem + "_tets.png", smallest->model + ": output tets by graph node");
+    }
 
     std::ostringstream md, csv;
     md << "# Table 1: immersion algorithm statistics" << (q ? " (--quick sizes)" : "") << "\n\n"
