@@ -1,4 +1,4 @@
-// Internal to the `immerse` command line (core/cli.cpp, core/cli_surface.cpp): the pieces both
+// Internal to the `immerse` command line (app/cli.cpp, app/cli_surface.cpp): the pieces both
 // dimensions' commands share. Not a library API: nothing outside the `immerse` target includes it.
 //
 //  - Session: timings per stage, the one-line summary, atomic writes and the list of written files;
@@ -25,13 +25,18 @@
 
 #include "core/atomic_file.h"
 #include "core/cell_complex.h"
-#include "core/cli.h"
+#include "app/cli.h"
+#include "app/command_line.h"
 #include "core/diagnostics.h"
 #include "core/graph_search.h"
-#include "core/report_json.h"
 #include "dim3/mesh3.h"
 
+#include <nlohmann/json.hpp>
+
 namespace imm::cli {
+
+/// Every JSON the program writes: keys in insertion order (DESIGN §3).
+using Json = nlohmann::ordered_json;
 
 using Clock = std::chrono::steady_clock;
 
@@ -53,23 +58,6 @@ std::string plural(std::size_t n, const std::string& word, const std::string& wo
 std::string format_ms(double seconds);
 
 // ---- the command line --------------------------------------------------------------------------
-
-/// A parsed command line: positional arguments, options with values, flags.
-struct CommandLine {
-  std::vector<std::string> positional;
-  std::map<std::string, std::string> values;
-  std::set<std::string> flags;
-  bool help = false;
-
-  [[nodiscard]] bool has(const std::string& name) const {
-    return flags.count(name) != 0 || values.count(name) != 0;
-  }
-  [[nodiscard]] std::optional<std::string> value(const std::string& name) const {
-    const auto it = values.find(name);
-    if (it == values.end()) return std::nullopt;
-    return it->second;
-  }
-};
 
 /// Prints "immerse COMMAND: message", the command's usage line and a pointer to its --help.
 /// @return kExitUsage.
@@ -123,7 +111,7 @@ class Session {
   }
   [[nodiscard]] Json timings_json() const {
     Json t = Json::object();
-    for (const auto& [name, total] : stages_) t.set(name, total * 1e3);
+    for (const auto& [name, total] : stages_) (t[name] = total * 1e3);
     return t;
   }
 
@@ -235,56 +223,180 @@ struct ComplexJsonHooks {
 /// cyclic order and the four wedges: wedge k between junction k and k+1).
 template <int D>
 void add_complex_json(Json& j, const CellComplex<D>& complex, const ComplexJsonHooks& hooks) {
-  Json& regions = j.set("regions", Json::array());
+  Json& regions = (j["regions"] = Json::array());
   for (RegionId r : ids<RegionId>(complex.region_count())) {
-    Json& o = regions.push(Json::object());
-    o.set("id", r.value());
-    o.set("winding", complex.winding_number(r));
-    o.set("cell", cell_id_json(complex.cell_of(r)));
-    o.set("simply_connected", complex.is_simply_connected(r));
+    Json& o = regions.emplace_back(Json::object());
+    o["id"] = r.value();
+    o["winding"] = complex.winding_number(r);
+    o["cell"] = cell_id_json(complex.cell_of(r));
+    o["simply_connected"] = complex.is_simply_connected(r);
     if (hooks.region) hooks.region(o, r);
   }
-  Json& cells = j.set("cells", Json::array());
+  Json& cells = (j["cells"] = Json::array());
   for (CellId c : ids<CellId>(complex.cell_count())) {
-    Json& o = cells.push(Json::object());
-    o.set("id", c.value());
-    o.set("region", complex.region_of(c).value());
-    o.set("winding", complex.winding_number(c));
-    Json& b = o.set("b_patches", Json::array());
+    Json& o = cells.emplace_back(Json::object());
+    o["id"] = c.value();
+    o["region"] = complex.region_of(c).value();
+    o["winding"] = complex.winding_number(c);
+    Json& b = (o["b_patches"] = Json::array());
     for (const BPatch& bp : complex.b_patches(c)) {
-      Json& e = b.push(Json::object());
-      e.set("patch", bp.patch.value());
-      e.set("agrees", bp.agrees);
+      Json& e = b.emplace_back(Json::object());
+      e["patch"] = bp.patch.value();
+      e["agrees"] = bp.agrees;
     }
-    Json& touching = o.set("self_touching_arcs", Json::array());
-    for (ArcId a : complex.self_touching_arcs(c)) touching.push(a.value());
+    Json& touching = (o["self_touching_arcs"] = Json::array());
+    for (ArcId a : complex.self_touching_arcs(c)) touching.emplace_back(a.value());
   }
-  Json& patches = j.set("patches", Json::array());
+  Json& patches = (j["patches"] = Json::array());
   for (PatchId p : ids<PatchId>(complex.patch_count())) {
-    Json& o = patches.push(Json::object());
-    o.set("id", p.value());
-    o.set("positive_region", complex.sides(p).positive.value());
-    o.set("negative_region", complex.sides(p).negative.value());
-    o.set("inner_cell", cell_id_json(complex.inner_cell(p)));
-    o.set("outer_cell", cell_id_json(complex.outer_cell(p)));
+    Json& o = patches.emplace_back(Json::object());
+    o["id"] = p.value();
+    o["positive_region"] = complex.sides(p).positive.value();
+    o["negative_region"] = complex.sides(p).negative.value();
+    o["inner_cell"] = cell_id_json(complex.inner_cell(p));
+    o["outer_cell"] = cell_id_json(complex.outer_cell(p));
     if (hooks.patch) hooks.patch(o, p);
-    Json& arcs = o.set("arcs", Json::array());
-    for (ArcId a : complex.arcs_of(p)) arcs.push(a.value());
+    Json& arcs = (o["arcs"] = Json::array());
+    for (ArcId a : complex.arcs_of(p)) arcs.emplace_back(a.value());
   }
-  Json& arcs = j.set("arcs", Json::array());
+  Json& arcs = (j["arcs"] = Json::array());
   for (ArcId a : ids<ArcId>(complex.arc_count())) {
     const ArcJunctions& junctions = complex.arc(a);
-    Json& o = arcs.push(Json::object());
-    o.set("id", a.value());
+    Json& o = arcs.emplace_back(Json::object());
+    o["id"] = a.value();
     if (hooks.arc) hooks.arc(o, a);
-    Json& order = o.set(hooks.junction_key, Json::array());
-    for (PatchId p : junctions.patch) order.push(p.value());
-    Json& wedges = o.set("wedge_regions", Json::array());
-    for (RegionId r : junctions.wedge) wedges.push(r.value());
+    Json& order = (o[hooks.junction_key] = Json::array());
+    for (PatchId p : junctions.patch) order.emplace_back(p.value());
+    Json& wedges = (o["wedge_regions"] = Json::array());
+    for (RegionId r : junctions.wedge) wedges.emplace_back(r.value());
   }
 }
 
-// ---- 3D commands (core/cli_surface.cpp) -------------------------------------------------------
+// ---- one prepared input, either dimension ----------------------------------------------------
+//
+// The commands of both dimensions share these templates. A prepared input P (Prepared in
+// cli.cpp, PreparedSurface in cli_surface.cpp) has `path`, `report`, `inversion` (optional),
+// `complex` (shared_ptr to a Complex2/Complex3 with a `complex` member and `reversed`), and
+// `static constexpr const char* kFacetKey` ("segments" / "triangles"); the few functions that
+// differ are overloads found by argument-dependent lookup on P: input_json(p), inversion_json(p),
+// describe_input(p).
+
+/// Coordinates as a JSON array.
+inline Json point_json(std::span<const double> coordinates) {
+  Json a = Json::array();
+  for (double x : coordinates) a.emplace_back(x);
+  return a;
+}
+
+/// The counts every complex has; the dimension appends its own.
+template <int D>
+Json complex_counts_json(const CellComplex<D>& complex) {
+  Json j = Json::object();
+  j["regions"] = complex.region_count();
+  j["cells"] = complex.cell_count();
+  j["patches"] = complex.patch_count();
+  j["arcs"] = complex.arc_count();
+  j["max_winding"] = complex.max_winding_number();
+  return j;
+}
+
+/// JSON for an input that never reached the search (defects or an inversion).
+template <class P>
+Json early_json(const P& p, const Session& s) {
+  Json j = Json::object();
+  j["input"] = input_json(p);
+  if (!p.report.ok()) {
+    j["status"] = "invalid-input";
+    j["defects"] = defects_json(p.report, P::kFacetKey);
+  } else if (p.inversion) {
+    j["status"] = "inverted";
+    j["inversion"] = inversion_json(p);
+  }
+  j["timings_ms"] = s.timings_json();
+  return j;
+}
+
+template <class P>
+void print_inversion(Session& s, const P& p) {
+  s.err() << "immerse: '" << p.path << "' is not immersible: " << p.inversion->message << '\n';
+}
+
+/// For the commands that need a valid, non-inverted complex: `prepare()` reads, validates and
+/// builds it (returning an exit code). On failure prints the verdict, writes the early JSON report
+/// when one was asked for, and @return the exit code (2 invalid input, 3 inverted); kExitOk when
+/// the complex is ready.
+template <class P, class Prepare>
+int prepare_complex_or_report(Session& s, P& p, const std::optional<std::string>& json_path, Prepare&& prepare) {
+  int code = prepare();
+  if (code == kExitOk && p.inversion) {
+    print_inversion(s, p);
+    code = kExitNotImmersible;
+  }
+  if (code != kExitOk) {
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(2) + "\n", "report")) return kExitInternalError;
+    print_written(s);
+  }
+  return code;
+}
+
+/// `immerse cells --json`: the input, the complex with the dimension's geometry
+/// (add_complex_report(j, p), found by argument-dependent lookup) and the timings.
+template <class P>
+Json cells_report_json(const P& p, const Session& s) {
+  Json j = Json::object();
+  j["input"] = input_json(p);
+  j["status"] = "ok";
+  add_complex_report(j, p);
+  j["timings_ms"] = s.timings_json();
+  return j;
+}
+
+/// "'PATH': 3D input, 12 triangles, 8 vertices" (`counts` after the dimension).
+inline std::string describe_input(const std::string& path, int dimension, const std::string& counts) {
+  return "'" + path + "': " + std::to_string(dimension) + "D input, " + counts;
+}
+
+/// An extra column of the cell table (3D: the genus of the cell's region).
+struct CellTableColumn {
+  std::string header;
+  std::function<std::string(RegionId)> value;
+};
+
+/// The counts line and the table of cells (at most kMaxTableRows rows): id, region, winding,
+/// simple connectivity, measure (`measure` names it: "area", "volume"), B-patches; `arc_kind`
+/// names the arcs ("crossings", "intersection curves"), `detail` is printed after the counts line.
+template <int D>
+void print_cell_table(Session& s, const CellComplex<D>& c, const std::string& arc_kind, const std::string& detail,
+                      const std::string& measure, const std::optional<CellTableColumn>& extra = std::nullopt) {
+  s.out() << plural(c.region_count(), "region") << ", " << plural(c.cell_count(), "cell") << ", "
+          << plural(c.patch_count(), "patch", "patches") << ", " << plural(c.arc_count(), "arc") << " ("
+          << arc_kind << "), max winding number " << c.max_winding_number() << '\n'
+          << detail;
+  char head[160];
+  std::snprintf(head, sizeof head, " cell  region  winding  %s%16s  %12s  B-patches (* = disagrees)\n",
+                extra ? (extra->header + "  ").c_str() : "", "simply-connected", measure.c_str());
+  s.out() << head;
+  std::size_t rows = 0;
+  for (CellId cell : ids<CellId>(c.cell_count())) {
+    if (++rows > kMaxTableRows) {
+      s.out() << " ... and " << (c.cell_count() - kMaxTableRows) << " more cells (see --json)\n";
+      break;
+    }
+    const RegionId r = c.region_of(cell);
+    std::string extra_value;
+    if (extra) {
+      extra_value = extra->value(r);
+      extra_value = std::string(extra->header.size() > extra_value.size() ? extra->header.size() - extra_value.size() : 0, ' ') +
+                    extra_value + "  ";
+    }
+    char line[192];
+    std::snprintf(line, sizeof line, "%5d  %6d  %7d  %s%16s  %12.6g  ", cell.value(), r.value(), c.winding_number(cell),
+                  extra_value.c_str(), c.is_simply_connected(r) ? "yes" : "no", to_double(c.measure(r)));
+    s.out() << line << b_patch_list(c.b_patches(cell)) << '\n';
+  }
+}
+
+// ---- 3D commands (app/cli_surface.cpp) -------------------------------------------------------
 
 /// True when the file is a 3D surface: .off/.ply/.stl, or an OBJ with faces and no 'l' lines.
 bool is_surface_file(const std::string& path);
