@@ -34,6 +34,7 @@
 
 #include "core/atomic_file.h"
 #include "app/cli_common.h"
+#include "app/cli_deform.h"
 #include "core/diagnostics.h"
 #include "core/graph_search.h"
 #include "dim2/complex2.h"
@@ -63,6 +64,8 @@ commands:
   mesh IN [options]                mesh one immersion (paper §7): triangles in 2D, tets in 3D
   generate NAME [PARAMS] [-o OUT]  procedural curves and surfaces; 'generate --list' names them
   render IN -o OUT.png [options]   a picture of a surface, tet mesh or curves (POV-Ray, rsvg-convert)
+  deform IN --handles H.json -o DIR  pull the unglued mesh apart (ARAP, FEM; paper §8); --glued compares
+  weights IN --handles H.json -o OUT.vtu  bounded biharmonic weights and geodesic distance
   help [COMMAND]                   this text, or the options of one command (also CMD --help)
 
 input: the dimension is taken from the file.
@@ -242,6 +245,8 @@ std::vector<CommandSpec> make_command_specs() {
   };
   generate.footer = "Exit codes: 0 ok, 64 unknown name or bad parameters, 1 output not writable.\n";
   specs.push_back(generate);
+  specs.push_back(deform_command_spec());
+  specs.push_back(weights_command_spec());
   return specs;
 }
 
@@ -1036,6 +1041,7 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   if (command == "cells") return command_cells(s, cl);
   if (command == "immersions") return command_immersions(s, cl);
   if (command == "mesh") return command_mesh(s, cl);
+  if (command == "deform" || command == "weights") return command_deform_or_weights(s, cl, command);
   return command_generate(s, cl);
 }
 

@@ -1,0 +1,112 @@
+// Deformation and simulation on simplicial meshes (deform/): one family per stage, D = 2 and 3,
+// on Kuhn grids of the unit box (tests/deform/grid.h) built outside the timed loop. The 3D sizes
+// reach the paper's quintuple-torus mesh (about 85k tets at 24 cells per side: 82,944 tets).
+// Counters: the system size (free unknowns) and the elements.
+#include <benchmark/benchmark.h>
+
+#include "deform/arap.h"
+#include "deform/fem.h"
+#include "deform/grid.h"
+#include "deform/weights.h"
+
+namespace imm::bench {
+namespace {
+
+using deform::SimplexMesh;
+
+template <int D>
+std::vector<Eigen::Index> end_faces(const SimplexMesh<D>& mesh) {
+  return deform::test::vertices_where<D>(mesh, 0, 0.0, 1.0);
+}
+
+template <int D>
+Eigen::MatrixXd bent_targets(const SimplexMesh<D>& mesh, const std::vector<Eigen::Index>& handles) {
+  Eigen::MatrixXd targets(static_cast<Eigen::Index>(handles.size()), D);
+  for (std::size_t k = 0; k < handles.size(); ++k) {
+    Eigen::Matrix<double, 1, D> p = mesh.vertices.row(handles[k]);
+    if (p(0) > 0.5) p(D - 1) += 0.5;
+    targets.row(static_cast<Eigen::Index>(k)) = p;
+  }
+  return targets;
+}
+
+template <int D>
+void BM_Deform_ArapPrecompute(benchmark::State& state) {
+  const SimplexMesh<D> mesh = deform::test::unit_grid<D>(static_cast<int>(state.range(0)));
+  const std::vector<Eigen::Index> handles = end_faces<D>(mesh);
+  for (auto _ : state) benchmark::DoNotOptimize(deform::arap_precompute<D>(mesh, handles));
+  state.counters["elements"] = static_cast<double>(mesh.element_count());
+  state.counters["unknowns"] = static_cast<double>((mesh.vertex_count() - static_cast<Eigen::Index>(handles.size())) * D);
+}
+
+/// One local/global iteration (local rotations, one right-hand side, the prefactored solve).
+template <int D>
+void BM_Deform_ArapIteration(benchmark::State& state) {
+  const SimplexMesh<D> mesh = deform::test::unit_grid<D>(static_cast<int>(state.range(0)));
+  const std::vector<Eigen::Index> handles = end_faces<D>(mesh);
+  const deform::ArapData<D> data = deform::arap_precompute<D>(mesh, handles);
+  const Eigen::MatrixXd targets = bent_targets<D>(mesh, handles);
+  Eigen::MatrixXd x = mesh.vertices;
+  for (auto _ : state) {
+    const deform::ArapReport r = deform::arap_solve<D>(data, targets, x, {.max_iterations = 1, .relative_tolerance = -1.0});
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["elements"] = static_cast<double>(mesh.element_count());
+}
+
+/// One implicit Euler step (Newton to convergence) of a bar bent by its end face.
+template <int D>
+void BM_Deform_FemStep(benchmark::State& state) {
+  const SimplexMesh<D> mesh = deform::test::unit_grid<D>(static_cast<int>(state.range(0)));
+  const std::vector<Eigen::Index> fixed = end_faces<D>(mesh);
+  deform::FemOptions options;
+  options.material = {.youngs_modulus = 1e4, .poisson_ratio = 0.3, .density = 1.0};
+  options.time_step = 1.0 / 30.0;
+  options.gravity = Eigen::VectorXd::Zero(D);
+  options.gravity[D - 1] = -9.81;
+  const deform::FemData<D> data = deform::fem_precompute<D>(mesh, fixed, options.material);
+  const Eigen::MatrixXd targets = bent_targets<D>(mesh, fixed);
+  int newton = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    deform::FemState<D> s{mesh.vertices, Eigen::MatrixXd::Zero(mesh.vertex_count(), D)};
+    state.ResumeTiming();
+    newton = deform::fem_step<D>(data, s, targets, options).newton_iterations;
+  }
+  state.counters["elements"] = static_cast<double>(mesh.element_count());
+  state.counters["newton_iterations"] = newton;
+}
+
+/// Bounded biharmonic weights for 4 handles (single vertices at four corners of the box).
+template <int D>
+void BM_Deform_Bbw4(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const SimplexMesh<D> mesh = deform::test::unit_grid<D>(n);
+  std::vector<std::vector<Eigen::Index>> handles;
+  // Corner vertex ids of the lattice: 0, n, (n+1)n + ... (the four corners with the last axes at 0 or 1).
+  const Eigen::Index side = n + 1;
+  handles.push_back({0});
+  handles.push_back({n});
+  handles.push_back({side * n});
+  handles.push_back({side * n + n});
+  int iterations = 0;
+  for (auto _ : state) {
+    const deform::WeightsResult r = deform::bounded_biharmonic_weights<D>(mesh, handles);
+    iterations = 0;
+    for (int i : r.active_set_iterations) iterations += i;
+  }
+  state.counters["elements"] = static_cast<double>(mesh.element_count());
+  state.counters["active_set_iterations"] = iterations;
+}
+
+BENCHMARK_TEMPLATE(BM_Deform_ArapPrecompute, 2)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Deform_ArapPrecompute, 3)->Arg(12)->Arg(24)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Deform_ArapIteration, 2)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Deform_ArapIteration, 3)->Arg(12)->Arg(24)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Deform_FemStep, 2)->Arg(64)->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_Deform_FemStep, 3)->Arg(12)->Arg(24)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_TEMPLATE(BM_Deform_Bbw4, 2)->Arg(64)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK_TEMPLATE(BM_Deform_Bbw4, 3)->Arg(12)->Arg(24)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+}  // namespace
+}  // namespace imm::bench

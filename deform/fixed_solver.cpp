@@ -1,0 +1,64 @@
+#include "deform/fixed_solver.h"
+
+#include <algorithm>
+
+namespace imm::deform {
+
+bool FixedSolver::compute(const Eigen::SparseMatrix<double>& a, const std::vector<Eigen::Index>& known) {
+  n_ = a.rows();
+  known_ = known;
+  free_.clear();
+  error_.clear();
+  // slot: free variable i -> its free index (>= 0); known variable k-th -> -1 - k.
+  std::vector<Eigen::Index> slot(static_cast<std::size_t>(n_), 0);
+  std::vector<char> is_known(static_cast<std::size_t>(n_), 0);
+  for (std::size_t k = 0; k < known_.size(); ++k) {
+    is_known[static_cast<std::size_t>(known_[k])] = 1;
+    slot[static_cast<std::size_t>(known_[k])] = -1 - static_cast<Eigen::Index>(k);
+  }
+  for (Eigen::Index i = 0; i < n_; ++i)
+    if (!is_known[static_cast<std::size_t>(i)]) {
+      slot[static_cast<std::size_t>(i)] = static_cast<Eigen::Index>(free_.size());
+      free_.push_back(i);
+    }
+  std::vector<Eigen::Triplet<double>> ff, fk;
+  for (Eigen::Index col = 0; col < a.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, col); it; ++it) {
+      const Eigen::Index r = slot[static_cast<std::size_t>(it.row())], c = slot[static_cast<std::size_t>(it.col())];
+      if (r < 0) continue;
+      if (c >= 0) ff.emplace_back(r, c, it.value());
+      else fk.emplace_back(r, -1 - c, it.value());
+    }
+  const auto f = static_cast<Eigen::Index>(free_.size());
+  Eigen::SparseMatrix<double> a_ff(f, f);
+  a_ff.setFromTriplets(ff.begin(), ff.end());
+  a_fk_.resize(f, static_cast<Eigen::Index>(known_.size()));
+  a_fk_.setFromTriplets(fk.begin(), fk.end());
+  if (f == 0) return true;
+  ldlt_ = std::make_shared<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(a_ff);
+  if (ldlt_->info() != Eigen::Success) {
+    error_ = "the system of the free variables could not be factored (numerical issue)";
+    return false;
+  }
+  // Callers check that every connected part has a known variable (a semidefinite free block
+  // otherwise); here only a non-positive pivot is refused.
+  if (!(ldlt_->vectorD().minCoeff() > 0.0)) {
+    error_ = "the system is not positive definite on the free variables";
+    return false;
+  }
+  return true;
+}
+
+Eigen::MatrixXd FixedSolver::solve(const Eigen::MatrixXd& rhs, const Eigen::MatrixXd& known_values) const {
+  Eigen::MatrixXd x(n_, rhs.cols());
+  for (std::size_t k = 0; k < known_.size(); ++k) x.row(known_[k]) = known_values.row(static_cast<Eigen::Index>(k));
+  if (free_.empty()) return x;
+  Eigen::MatrixXd b(static_cast<Eigen::Index>(free_.size()), rhs.cols());
+  for (std::size_t i = 0; i < free_.size(); ++i) b.row(static_cast<Eigen::Index>(i)) = rhs.row(free_[i]);
+  if (!known_.empty()) b -= a_fk_ * known_values;
+  const Eigen::MatrixXd xf = ldlt_->solve(b);
+  for (std::size_t i = 0; i < free_.size(); ++i) x.row(free_[i]) = xf.row(static_cast<Eigen::Index>(i));
+  return x;
+}
+
+}  // namespace imm::deform

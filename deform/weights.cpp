@@ -1,0 +1,171 @@
+#include "deform/weights.h"
+
+#include <cmath>
+#include <limits>
+
+#include "deform/fixed_solver.h"
+
+namespace imm::deform {
+
+template <int D>
+WeightsResult bounded_biharmonic_weights(const SimplexMesh<D>& mesh, const std::vector<std::vector<Eigen::Index>>& handles,
+                                         const WeightsOptions& options) {
+  WeightsResult result;
+  const Eigen::Index n = mesh.vertex_count();
+  std::vector<int> handle_of(static_cast<std::size_t>(n), -1);
+  std::vector<Eigen::Index> all;
+  for (std::size_t k = 0; k < handles.size(); ++k) {
+    if (handles[k].empty()) {
+      result.error = "handle " + std::to_string(k) + " selects no vertex";
+      return result;
+    }
+    for (Eigen::Index v : handles[k]) {
+      if (v < 0 || v >= n) {
+        result.error = "handle " + std::to_string(k) + ": vertex " + std::to_string(v) + " out of range";
+        return result;
+      }
+      if (handle_of[static_cast<std::size_t>(v)] >= 0) {
+        result.error = "vertex " + std::to_string(v) + " is in handles " + std::to_string(handle_of[static_cast<std::size_t>(v)]) +
+                       " and " + std::to_string(k);
+        return result;
+      }
+      handle_of[static_cast<std::size_t>(v)] = static_cast<int>(k);
+      all.push_back(v);
+    }
+  }
+  const std::vector<Eigen::Index> loose = unanchored_components(n, mesh.elements, all);
+  if (!loose.empty()) {
+    result.error = "a connected part of the mesh (with vertex " + std::to_string(loose.front()) +
+                   ") has no handle: its weights are undetermined";
+    return result;
+  }
+  const Eigen::SparseMatrix<double> k = stiffness_matrix<D>(mesh);
+  const Eigen::VectorXd mass = lumped_mass<D>(mesh);
+  const Eigen::SparseMatrix<double> q = Eigen::SparseMatrix<double>(k.transpose() * mass.cwiseInverse().asDiagonal() * k);
+  const Eigen::MatrixXd zero_rhs = Eigen::MatrixXd::Zero(n, 1);
+  // Round-off of one solve: weights are O(1), so a value within 1e-10 of a bound is on it.
+  constexpr double kRoundOff = 1e-10;
+  const double q_scale = q.diagonal().cwiseAbs().maxCoeff();
+
+  result.weights.resize(n, static_cast<Eigen::Index>(handles.size()));
+  for (std::size_t h = 0; h < handles.size(); ++h) {
+    // Active set: 0 = free, -1 = held at 0, +1 = held at 1 (handles are always known).
+    std::vector<signed char> active(static_cast<std::size_t>(n), 0);
+    Eigen::VectorXd w;
+    int iteration = 0;
+    for (; iteration < options.max_active_set_iterations; ++iteration) {
+      std::vector<Eigen::Index> known = all;
+      for (Eigen::Index v = 0; v < n; ++v)
+        if (active[static_cast<std::size_t>(v)] != 0) known.push_back(v);
+      Eigen::MatrixXd values(static_cast<Eigen::Index>(known.size()), 1);
+      for (std::size_t i = 0; i < known.size(); ++i) {
+        const Eigen::Index v = known[i];
+        const int owner = handle_of[static_cast<std::size_t>(v)];
+        values(static_cast<Eigen::Index>(i), 0) =
+            owner >= 0 ? (owner == static_cast<int>(h) ? 1.0 : 0.0) : (active[static_cast<std::size_t>(v)] > 0 ? 1.0 : 0.0);
+      }
+      FixedSolver solver;
+      if (!solver.compute(q, known)) {
+        result.error = solver.error();
+        return result;
+      }
+      w = solver.solve(zero_rhs, values).col(0);
+      // Add every violated bound; only when none is violated, release the bounds whose
+      // multiplier has the wrong sign (KKT: (Q w)_v >= 0 at a lower bound, <= 0 at an upper).
+      bool added = false;
+      for (Eigen::Index v = 0; v < n; ++v) {
+        if (handle_of[static_cast<std::size_t>(v)] >= 0 || active[static_cast<std::size_t>(v)] != 0) continue;
+        if (w[v] < -kRoundOff) active[static_cast<std::size_t>(v)] = -1, added = true;
+        else if (w[v] > 1.0 + kRoundOff) active[static_cast<std::size_t>(v)] = 1, added = true;
+      }
+      if (added) continue;
+      const Eigen::VectorXd gradient = q * w;
+      // Release the held variable whose multiplier is most wrong (one at a time: releasing several
+      // at once can cycle); multipliers below round-off of Q's scale (weights are O(1)) are zero.
+      Eigen::Index worst = -1;
+      double worst_value = kRoundOff * q_scale;
+      for (Eigen::Index v = 0; v < n; ++v) {
+        const signed char a = active[static_cast<std::size_t>(v)];
+        const double wrong = a < 0 ? -gradient[v] : a > 0 ? gradient[v] : 0.0;
+        if (wrong > worst_value) worst = v, worst_value = wrong;
+      }
+      const bool released = worst >= 0;
+      if (released) active[static_cast<std::size_t>(worst)] = 0;
+      if (!released) break;
+    }
+    result.active_set_iterations.push_back(iteration + 1);
+    // On convergence every free value is inside [0, 1] up to round-off (no violated bound is
+    // left) and every held one is exactly 0 or 1; the iteration cap is the only way out.
+    if (w.minCoeff() < -kRoundOff || w.maxCoeff() > 1.0 + kRoundOff) {
+      result.error = "the active-set iteration for handle " + std::to_string(h) + " did not converge in " +
+                     std::to_string(options.max_active_set_iterations) + " iterations";
+      return result;
+    }
+    result.weights.col(static_cast<Eigen::Index>(h)) = w.cwiseMax(0.0).cwiseMin(1.0);  // the round-off only
+  }
+  const Eigen::VectorXd sums = result.weights.rowwise().sum();
+  for (Eigen::Index v = 0; v < n; ++v) {
+    if (!(sums[v] > 0.0)) {
+      result.error = "every weight is zero at vertex " + std::to_string(v);
+      return result;
+    }
+    result.weights.row(v) /= sums[v];
+  }
+  return result;
+}
+
+template <int D>
+Eigen::VectorXd heat_geodesic(const SimplexMesh<D>& mesh, const std::vector<Eigen::Index>& sources, double time_factor) {
+  const Eigen::Index n = mesh.vertex_count();
+  const double h = mean_edge_length<D>(mesh.vertices, mesh.elements);
+  const double t = time_factor * h * h;
+  const Eigen::SparseMatrix<double> k = stiffness_matrix<D>(mesh);
+  const Eigen::VectorXd mass = lumped_mass<D>(mesh);
+  // Parts without a source are solved with one vertex pinned and reported as +infinity.
+  int count = 0;
+  const std::vector<int> component = vertex_components(n, mesh.elements, count);
+  std::vector<char> reached(static_cast<std::size_t>(count), 0);
+  for (Eigen::Index s : sources) reached[static_cast<std::size_t>(component[static_cast<std::size_t>(s)])] = 1;
+  const std::vector<Eigen::Index> loose = unanchored_components(n, mesh.elements, sources);
+
+  // 1. Heat: (M + t K) u = delta_sources (u = 0 pinned on unreached parts).
+  Eigen::SparseMatrix<double> heat = t * k;
+  for (Eigen::Index v = 0; v < n; ++v) heat.coeffRef(v, v) += mass[v];
+  Eigen::MatrixXd delta = Eigen::MatrixXd::Zero(n, 1);
+  for (Eigen::Index s : sources) delta(s, 0) = 1.0;
+  FixedSolver heat_solver;
+  heat_solver.compute(heat, {});
+  const Eigen::VectorXd u = heat_solver.solve(delta, Eigen::MatrixXd(0, 1)).col(0);
+
+  // 2. X = -grad u / |grad u| per element; 3. divergence: rhs_i = sum_e vol_e b_i . X_e.
+  Eigen::MatrixXd divergence = Eigen::MatrixXd::Zero(n, 1);
+  for (Eigen::Index e = 0; e < mesh.element_count(); ++e) {
+    const ElementGeometry<D> g = element_geometry<D>(mesh.vertices, mesh.elements, e);
+    Eigen::Matrix<double, 1, D> gradient = Eigen::Matrix<double, 1, D>::Zero();
+    for (int i = 0; i < D + 1; ++i) gradient += u[mesh.elements(e, i)] * g.gradients.row(i);
+    const double norm = gradient.norm();
+    if (!(norm > 0.0)) continue;
+    const Eigen::Matrix<double, 1, D> field = -gradient / norm;
+    for (int i = 0; i < D + 1; ++i) divergence(mesh.elements(e, i), 0) += std::abs(g.volume) * g.gradients.row(i).dot(field);
+  }
+  // 4. K phi = div X (the least-squares fit of grad phi to X), phi = 0 at the sources.
+  std::vector<Eigen::Index> known = sources;
+  known.insert(known.end(), loose.begin(), loose.end());
+  FixedSolver poisson;
+  poisson.compute(k, known);
+  Eigen::VectorXd phi = poisson.solve(divergence, Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(known.size()), 1)).col(0);
+  for (Eigen::Index v = 0; v < n; ++v)
+    if (!reached[static_cast<std::size_t>(component[static_cast<std::size_t>(v)])]) phi[v] = std::numeric_limits<double>::infinity();
+  return phi;
+}
+
+#define IMM_WEIGHTS_INSTANTIATE(D)                                                                           \
+  template WeightsResult bounded_biharmonic_weights<D>(const SimplexMesh<D>&,                               \
+                                                       const std::vector<std::vector<Eigen::Index>>&,        \
+                                                       const WeightsOptions&);                               \
+  template Eigen::VectorXd heat_geodesic<D>(const SimplexMesh<D>&, const std::vector<Eigen::Index>&, double);
+IMM_WEIGHTS_INSTANTIATE(2)
+IMM_WEIGHTS_INSTANTIATE(3)
+#undef IMM_WEIGHTS_INSTANTIATE
+
+}  // namespace imm::deform

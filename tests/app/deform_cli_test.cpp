@@ -1,0 +1,135 @@
+// `immerse deform` and `immerse weights` (app/cli_deform.cpp) through the real executable: the
+// pull-apart of Fig. 7 on the unglued mesh leaves no crossing, on the glued baseline it keeps them;
+// bad handle files exit 2 with a message; outputs are written per frame.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+class DeformCli : public testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(IMM_IMMERSE_EXE)) GTEST_SKIP() << "no immerse binary at " << IMM_IMMERSE_EXE;
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("imm_deform_cli_test_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (dir_.empty()) return;
+    // DESIGN §3: never a half-written output, and no temporary file left behind.
+    for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
+      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos)
+          << "temporary file left behind: " << entry.path();
+    }
+    if (!HasFailure()) fs::remove_all(dir_);
+  }
+
+  /// Runs `immerse ARGS` in the test directory.
+  Outcome run(const std::string& args) const {
+    const std::string command = "cd '" + dir_.string() + "' && '" IMM_IMMERSE_EXE "' " + args + " 2>&1";
+    Outcome r;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (pipe == nullptr) return r;
+    char buffer[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
+    const int status = ::pclose(pipe);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+  }
+
+  void write(const std::string& name, const std::string& text) const {
+    fs::create_directories((dir_ / name).parent_path());
+    std::ofstream(dir_ / name, std::ios::binary) << text;
+  }
+  std::string read(const std::string& name) const {
+    std::ifstream in(dir_ / name, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
+
+  fs::path dir_;
+};
+
+constexpr const char* kPullApart = R"({"handles": [
+  {"box": {"min": [-10000, -10000], "max": [-650, 10000]}, "displacement": [-800, 0]},
+  {"box": {"min": [680, -10000], "max": [10000, 10000]}, "displacement": [800, 0]}]})";
+
+/// The crossings reported for the last frame ("frame N: I inverted elements, C self-intersecting ...").
+int last_crossings(const std::string& output) {
+  const std::regex line(R"(frame \d+: (\d+) inverted elements, (\d+) self-intersecting)");
+  int crossings = -1;
+  for (auto it = std::sregex_iterator(output.begin(), output.end(), line); it != std::sregex_iterator(); ++it)
+    crossings = std::stoi((*it)[2]);
+  return crossings;
+}
+
+TEST_F(DeformCli, Fig7PullsApartUngluedButNotGlued) {
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  write("h.json", kPullApart);
+  const Outcome unglued = run("deform fig7.txt --handles h.json -o out --frames 2 --resolution 20 --json out/r.json");
+  ASSERT_EQ(unglued.code, 0) << unglued.output;
+  EXPECT_EQ(last_crossings(unglued.output), 0) << unglued.output;
+  EXPECT_NE(unglued.output.find("frame 2: 0 inverted elements"), std::string::npos) << unglued.output;
+  EXPECT_TRUE(exists("out/mesh_001.vtu"));
+  EXPECT_TRUE(exists("out/input_002.txt"));
+  EXPECT_NE(read("out/r.json").find("\"input_self_intersections\""), std::string::npos);
+  const Outcome glued = run("deform fig7.txt --handles h.json -o glued --frames 1 --resolution 20 --glued");
+  ASSERT_EQ(glued.code, 0) << glued.output;
+  EXPECT_GT(last_crossings(glued.output), 0) << glued.output;
+}
+
+TEST_F(DeformCli, FemAndWeightsRun) {
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  write("h.json", kPullApart);
+  const Outcome fem = run("deform fig7.txt --handles h.json -o fem --method fem-static --frames 1 --resolution 16");
+  ASSERT_EQ(fem.code, 0) << fem.output;
+  EXPECT_EQ(last_crossings(fem.output), 0) << fem.output;
+  const Outcome weights = run("weights fig7.txt --handles h.json -o w.vtu --resolution 16");
+  ASSERT_EQ(weights.code, 0) << weights.output;
+  EXPECT_NE(read("w.vtu").find("Name=\"weight_1\""), std::string::npos);
+}
+
+TEST_F(DeformCli, BadHandleFilesExit2WithAMessage) {
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  write("bad.json", "{\"handles\": [");
+  Outcome r = run("deform fig7.txt --handles bad.json -o out --resolution 12");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("not valid JSON"), std::string::npos) << r.output;
+  write("empty.json", R"({"handles": [{"box": {"min": [5000, 5000], "max": [6000, 6000]}}]})");
+  r = run("deform fig7.txt --handles empty.json -o out --resolution 12");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("handle 0 selects no mesh vertex"), std::string::npos) << r.output;
+  write("twice.json", R"({"handles": [{"vertices": [0]}, {"vertices": [0]}]})");
+  r = run("deform fig7.txt --handles twice.json -o out --resolution 12");
+  EXPECT_EQ(r.code, 2) << r.output;
+  write("dim.json", R"({"handles": [{"vertices": [0], "displacement": [1, 2, 3]}]})");
+  r = run("deform fig7.txt --handles dim.json -o out --resolution 12");
+  EXPECT_EQ(r.code, 2) << r.output;
+  r = run("deform fig7.txt -o out");
+  EXPECT_EQ(r.code, 64) << r.output;
+  r = run("deform fig7.txt --handles missing.json -o out --resolution 12");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_FALSE(exists("out"));
+}
+
+}  // namespace

@@ -1,0 +1,93 @@
+// Weights and distances (deform/weights.h) with known answers, for triangles and tetrahedra
+// alike: bounded biharmonic weights lie in [0, 1], sum to one, are 1 on their own handle and 0
+// on the others; heat-method distances on a bar match the exact distance to its end face.
+#include <gtest/gtest.h>
+
+#include <type_traits>
+
+#include "deform/weights.h"
+#include "grid.h"
+
+namespace imm::deform {
+namespace {
+
+template <class T>
+class Weights : public testing::Test {};
+using Dims = testing::Types<std::integral_constant<int, 2>, std::integral_constant<int, 3>>;
+TYPED_TEST_SUITE(Weights, Dims);
+
+TYPED_TEST(Weights, BoundedBiharmonicWeightsAreBoundedPartitionOfUnityAndInterpolate) {
+  constexpr int D = TypeParam::value;
+  const SimplexMesh<D> mesh = test::unit_grid<D>(D == 2 ? 10 : 5);
+  // Three handles: the vertices at three corners of the box (all coordinates 0; x = 1 only; y = 1 only).
+  std::vector<std::vector<Eigen::Index>> handles(3);
+  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) {
+    const Eigen::Matrix<double, 1, D> p = mesh.vertices.row(v);
+    if (p.norm() == 0.0) handles[0].push_back(v);
+    Eigen::Matrix<double, 1, D> x = Eigen::Matrix<double, 1, D>::Zero(), y = x;
+    x(0) = 1.0;
+    y(1) = 1.0;
+    if (p == x) handles[1].push_back(v);
+    if (p == y) handles[2].push_back(v);
+  }
+  for (const auto& h : handles) ASSERT_EQ(h.size(), 1u);
+  const WeightsResult r = bounded_biharmonic_weights<D>(mesh, handles);
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.weights.rows(), mesh.vertex_count());
+  ASSERT_EQ(r.weights.cols(), 3);
+  EXPECT_GE(r.weights.minCoeff(), 0.0);
+  EXPECT_LE(r.weights.maxCoeff(), 1.0);
+  EXPECT_LT((r.weights.rowwise().sum().array() - 1.0).abs().maxCoeff(), 1e-12);
+  for (std::size_t k = 0; k < handles.size(); ++k)
+    for (std::size_t j = 0; j < handles.size(); ++j)
+      EXPECT_DOUBLE_EQ(r.weights(handles[k][0], static_cast<Eigen::Index>(j)), k == j ? 1.0 : 0.0);
+  // Each weight is largest near its own handle: the opposite corner of the box gets little of handle 1.
+  Eigen::Index far = 0;
+  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v)
+    if (mesh.vertices(v, 0) == 0.0 && mesh.vertices(v, 1) == 1.0 && mesh.vertices.row(v).sum() == 1.0) far = v;
+  EXPECT_LT(r.weights(far, 1), 0.2);
+  EXPECT_GT(r.weights(far, 2), 0.6);
+}
+
+TYPED_TEST(Weights, BadHandlesAreRefused) {
+  constexpr int D = TypeParam::value;
+  const SimplexMesh<D> mesh = test::unit_grid<D>(2);
+  EXPECT_FALSE((bounded_biharmonic_weights<D>(mesh, {{0}, {}}).ok()));
+  EXPECT_FALSE((bounded_biharmonic_weights<D>(mesh, {{0}, {0}}).ok()));
+  EXPECT_FALSE((bounded_biharmonic_weights<D>(mesh, {{0}, {mesh.vertex_count()}}).ok()));
+}
+
+TYPED_TEST(Weights, HeatGeodesicOnABarMatchesTheDistanceToItsEnd) {
+  constexpr int D = TypeParam::value;
+  std::array<int, D> cells{};
+  std::array<double, D> size{};
+  cells.fill(D == 2 ? 4 : 3);
+  size.fill(1.0);
+  cells[0] = D == 2 ? 40 : 24;
+  size[0] = 8.0;
+  const SimplexMesh<D> bar = test::box_grid<D>(cells, size);
+  const std::vector<Eigen::Index> sources = test::vertices_where<D>(bar, 0, 0.0, 1e300);  // the x = 0 face
+  const Eigen::VectorXd distance = heat_geodesic<D>(bar, sources);
+  const double h = size[0] / cells[0];
+  double worst = 0.0;
+  for (Eigen::Index v = 0; v < bar.vertex_count(); ++v) worst = std::max(worst, std::abs(distance[v] - bar.vertices(v, 0)));
+  // Within the discretization: a small multiple of the element size over a bar 8 long.
+  EXPECT_LT(worst, 2.0 * h);
+  EXPECT_GT(distance.maxCoeff(), 7.0);
+}
+
+TYPED_TEST(Weights, HeatGeodesicDoesNotCrossToAPartWithoutSource) {
+  constexpr int D = TypeParam::value;
+  const SimplexMesh<D> one = test::unit_grid<D>(2);
+  SimplexMesh<D> two;
+  two.vertices.resize(2 * one.vertex_count(), D);
+  two.vertices << one.vertices, (one.vertices.array() + 1.5).matrix();
+  two.elements.resize(2 * one.element_count(), D + 1);
+  two.elements << one.elements, (one.elements.array() + static_cast<int>(one.vertex_count())).matrix();
+  const Eigen::VectorXd distance = heat_geodesic<D>(two, {0});
+  EXPECT_TRUE(distance.head(one.vertex_count()).allFinite());
+  EXPECT_TRUE(std::isinf(distance[one.vertex_count()]));
+}
+
+}  // namespace
+}  // namespace imm::deform
