@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -209,7 +211,8 @@ TEST_F(Cli3Test, EveryBadInputClassExitsWithTwoAndNamesTheDefect) {
     SCOPED_TRACE(c.file);
     write(c.file, c.content);
     for (const char* command : {"check", "cells", "immersions"}) {
-      const Outcome r = run(std::string(command) + " " + c.file);
+      // --strict: exact contacts are defects too (by default they are resolved, see below).
+      const Outcome r = run(std::string(command) + " " + c.file + " --strict");
       EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
       EXPECT_CONTAINS(r.output, "invalid input '" + c.file + "'");
       for (const std::string& piece : c.expected) EXPECT_CONTAINS(r.output, piece);
@@ -225,7 +228,7 @@ TEST_F(Cli3Test, DefectsGoIntoTheJsonReportWithTriangleIds) {
         imm::dim3::merge(box({0, 0, 0}, {1, 1, 1}), box({0.25, 0.375, 1}, {1.5, 1.5, 2})));
   for (const char* command : {"cells", "immersions"}) {
     SCOPED_TRACE(command);
-    const Outcome r = run(std::string(command) + " coplanar.obj --json report.json");
+    const Outcome r = run(std::string(command) + " coplanar.obj --json report.json --strict");
     EXPECT_EQ(r.code, 2) << r.output;
     const JsonValue j = read_json("report.json");
     EXPECT_EQ(j["status"].get<std::string>(), "invalid-input");
@@ -238,6 +241,31 @@ TEST_F(Cli3Test, DefectsGoIntoTheJsonReportWithTriangleIds) {
     }
     EXPECT_TRUE(coplanar);
   }
+}
+
+// ---- exact contacts: resolved by default, listed by check, refused by --strict --------------
+
+TEST_F(Cli3Test, ExactContactsAreResolvedWithANote) {
+  const Surface a = box({0, 0, 0}, {1, 1, 1});
+  write("vertex_on_face.obj", imm::dim3::format_obj(imm::dim3::merge(a, octahedron({1.375, 0.5, 0.5}, 0.375))));
+  const Outcome r = run("immersions vertex_on_face.obj --json report.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_CONTAINS(r.output, "1 exact contact (1 touching), resolved by perturbing the input by at most");
+  const JsonValue j = read_json("report.json");
+  EXPECT_TRUE(j["input"]["contacts"]["resolved"].get<bool>());
+  EXPECT_EQ(j["input"]["contacts"]["counts"]["touching"].get<long>(), 1);
+  EXPECT_LE(j["input"]["contacts"]["max_displacement"].get<double>(), std::ldexp(1.0, -30) * 2);
+  EXPECT_EQ(j["count"].get<long>(), 1);
+  // check lists each contact with its ids (and the input is valid).
+  const Outcome c = run("check vertex_on_face.obj");
+  ASSERT_EQ(c.code, 0) << c.output;
+  EXPECT_CONTAINS(c.output, "vertex 8 (1, 0.5, 0.5)");
+  EXPECT_CONTAINS(c.output, "lies on triangle 10");
+  // Two cubes sharing a face (coincident vertices): two solids, meshed apart.
+  write("shared_face.obj", imm::dim3::format_obj(imm::dim3::merge(a, box({1, 0, 0}, {2, 1, 1}))));
+  const Outcome m = run("mesh shared_face.obj --resolution 4 -o shared.mesh --embedding shared.emb");
+  ASSERT_EQ(m.code, 0) << m.output;
+  EXPECT_CONTAINS(m.output, "duplicate-vertex");
 }
 
 // ---- valid input and verdicts --------------------------------------------------------------
