@@ -120,9 +120,9 @@ Counts build_and_check(const Surface& input, unsigned threads = 0) {
     EXPECT_GT(p.max_displacement, 0.0);
     EXPECT_LE(p.max_displacement, std::ldexp(p.diagonal, -30));
     EXPECT_EQ(c3.surface.triangles, input.triangles);
-    ASSERT_EQ(c3.surface.vertex_count(), input.vertex_count());
+    EXPECT_EQ(c3.surface.vertex_count(), input.vertex_count());
     double worst = 0.0;
-    for (std::size_t v = 0; v < input.vertex_count(); ++v) {
+    for (std::size_t v = 0; v < std::min(input.vertex_count(), c3.surface.vertex_count()); ++v) {
       double d2 = 0.0;
       for (int d = 0; d < 3; ++d) d2 += (c3.surface.vertices[v][d] - input.vertices[v][d]) * (c3.surface.vertices[v][d] - input.vertices[v][d]);
       worst = std::max(worst, std::sqrt(d2));
