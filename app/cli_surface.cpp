@@ -50,6 +50,7 @@ using dim3::Point3;
 
 /// Everything read and built from one surface file.
 struct PreparedSurface {
+  static constexpr const char* kFacetKey = "triangles";
   std::string path;
   dim3::Surface surface;
   ValidationReport report;                    ///< defects: exit 2
@@ -64,11 +65,7 @@ ContactsView contacts_view(const dim3::Contacts3& c) {
   return {&c.found, &c.counts, c.perturbation ? &*c.perturbation : nullptr};
 }
 
-Json point_json(const Point3& p) {
-  Json a = Json::array();
-  for (double x : p) a.emplace_back(x);
-  return a;
-}
+Json point_json(const Point3& p) { return cli::point_json(p); }
 
 Json box_json(const Box3& b) {
   Json j = Json::object();
@@ -89,11 +86,12 @@ Json input_json(const PreparedSurface& p) {
 }
 
 std::string describe_input(const PreparedSurface& p) {
-  return "'" + p.path + "': 3D input, " + plural(p.surface.triangle_count(), "triangle") + ", " +
-         plural(p.surface.vertex_count(), "vertex", "vertices");
+  return cli::describe_input(p.path, 3, plural(p.surface.triangle_count(), "triangle") + ", " +
+                                            plural(p.surface.vertex_count(), "vertex", "vertices"));
 }
 
-Json inversion_json(const dim3::Inversion3& inv) {
+Json inversion_json(const PreparedSurface& p) {
+  const dim3::Inversion3& inv = *p.inversion;
   Json j = Json::object();
   j["region"] = inv.region.value();
   j["winding"] = inv.winding_number;
@@ -101,28 +99,6 @@ Json inversion_json(const dim3::Inversion3& inv) {
   for (long t : inv.triangles) triangles.emplace_back(t);
   j["message"] = inv.message;
   return j;
-}
-
-/// JSON for an input that never reached the search (defects or inversion).
-Json early_json(const PreparedSurface& p, const Session& s) {
-  Json j = Json::object();
-  j["input"] = input_json(p);
-  if (!p.report.ok()) {
-    j["status"] = "invalid-input";
-    j["defects"] = defects_json(p.report, "triangles");
-  } else if (p.inversion) {
-    j["status"] = "inverted";
-    j["inversion"] = inversion_json(*p.inversion);
-  } else if (!p.folds.ok()) {
-    j["status"] = "local-fold";
-    j["folds"] = defects_json(p.folds, "triangles");
-  }
-  j["timings_ms"] = s.timings_json();
-  return j;
-}
-
-void print_inversion(Session& s, const PreparedSurface& p) {
-  s.err() << "immerse: '" << p.path << "' is not immersible: " << p.inversion->message << '\n';
 }
 
 /// A local fold: two triangles of one vertex star cross beyond the vertex (DESIGN §5).
@@ -187,34 +163,12 @@ int prepare_surface(Session& s, PreparedSurface& p, bool exact_volumes) {
   return kExitOk;
 }
 
-/// As prepare_surface, for the commands that need a non-inverted complex: on failure prints the
-/// verdict, writes the early JSON report when one was asked for, and @return the exit code.
-int prepare_complex_or_report(Session& s, PreparedSurface& p, bool exact_volumes,
-                              const std::optional<std::string>& json_path) {
-  int code = prepare_surface(s, p, exact_volumes);
-  if (code == kExitOk && p.inversion) {
-    print_inversion(s, p);
-    code = kExitNotImmersible;
-  }
-  if (code != kExitOk) {
-    if (json_path && !s.write(*json_path, early_json(p, s).dump(2) + "\n", "report"))
-      return kExitInternalError;
-    print_written(s);
-  }
-  return code;
-}
-
 // ---- cells ------------------------------------------------------------------------------------
 
 Json counts_json(const PreparedSurface& p) {
   const Complex3& c3 = *p.complex;
   const CellComplex<3>& complex = c3.complex;
-  Json j = Json::object();
-  j["regions"] = complex.region_count();
-  j["cells"] = complex.cell_count();
-  j["patches"] = complex.patch_count();
-  j["arcs"] = complex.arc_count();
-  j["max_winding"] = complex.max_winding_number();
+  Json j = complex_counts_json(complex);
   j["triangles"] = p.surface.triangle_count();
   j["vertices"] = p.surface.vertex_count();
   j["components"] = c3.components;
@@ -228,12 +182,10 @@ Json counts_json(const PreparedSurface& p) {
   return j;
 }
 
-Json cells_report_json(const PreparedSurface& p, const Session& s) {
+/// The complex with the 3D geometry: counts, volumes (exact when computed), genus, boxes, curves.
+void add_complex_report(Json& j, const PreparedSurface& p) {
   const Complex3& c3 = *p.complex;
   const CellComplex<3>& complex = c3.complex;
-  Json j = Json::object();
-  j["input"] = input_json(p);
-  j["status"] = "ok";
   j["counts"] = counts_json(p);
   j["volumes_exact"] = c3.exact_volumes;
   Rational total = 0;
@@ -260,36 +212,17 @@ Json cells_report_json(const PreparedSurface& p, const Session& s) {
   };
   hooks.junction_key = "junction_patches";
   add_complex_json(j, complex, hooks);
-  j["timings_ms"] = s.timings_json();
-  return j;
 }
 
 void print_cell_table(Session& s, const PreparedSurface& p) {
   const Complex3& c3 = *p.complex;
-  const CellComplex<3>& c = c3.complex;
-  s.out() << plural(c.region_count(), "region") << ", " << plural(c.cell_count(), "cell") << ", "
-          << plural(c.patch_count(), "patch", "patches") << ", " << plural(c.arc_count(), "arc")
-          << " (intersection curves), max winding number " << c.max_winding_number() << '\n';
-  s.out() << plural(c3.components, "component") << ", "
-          << plural(c3.intersecting_pairs, "intersecting triangle pair") << ", "
-          << plural(c3.intersection_points, "intersection point") << ", "
-          << plural(c3.triple_points, "triple point") << ", "
-          << plural(c3.cut_triangles.size(), "cut triangle") << '\n';
-  s.out() << " cell  region  winding  genus  simply-connected        volume  "
-             "B-patches (* = disagrees)\n";
-  std::size_t rows = 0;
-  for (CellId cell : ids<CellId>(c.cell_count())) {
-    if (++rows > kMaxTableRows) {
-      s.out() << " ... and " << (c.cell_count() - kMaxTableRows) << " more cells (see --json)\n";
-      break;
-    }
-    const RegionId r = c.region_of(cell);
-    char line[160];
-    std::snprintf(line, sizeof line, "%5d  %6d  %7d  %5d  %16s  %12.6g  ", cell.value(), r.value(),
-                  c.winding_number(cell), c3.region_genus[r],
-                  c.is_simply_connected(r) ? "yes" : "no", to_double(c.measure(r)));
-    s.out() << line << b_patch_list(c.b_patches(cell)) << '\n';
-  }
+  const std::string detail = plural(c3.components, "component") + ", " +
+                             plural(c3.intersecting_pairs, "intersecting triangle pair") + ", " +
+                             plural(c3.intersection_points, "intersection point") + ", " +
+                             plural(c3.triple_points, "triple point") + ", " +
+                             plural(c3.cut_triangles.size(), "cut triangle") + "\n";
+  cli::print_cell_table(s, c3.complex, "intersection curves", detail, "volume",
+                        CellTableColumn{"genus", [&](RegionId r) { return std::to_string(c3.region_genus[r]); }});
 }
 
 // ---- immersions ------------------------------------------------------------------------------
@@ -350,10 +283,8 @@ int cells_surface(Session& s, const CommandLine& cl) {
   PreparedSurface p;
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
-  if (const int code = prepare_complex_or_report(s, p, /*exact_volumes=*/true, json_path);
-      code != kExitOk) {
-    return code;
-  }
+  const auto prepare = [&] { return prepare_surface(s, p, /*exact_volumes=*/true); };
+  if (const int code = prepare_complex_or_report(s, p, json_path, prepare); code != kExitOk) return code;
   s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << '\n';
   print_cell_table(s, p);
   if (json_path &&
