@@ -650,7 +650,11 @@ Outcome build_resolved(const CurveSet& curves) {
   const test_support::CrossingFacts facts = test_support::crossing_facts(*used);
   EXPECT_TRUE(facts.generic);
   if (r.inversion) {
-    EXPECT_EQ(test_support::winding_number(*used, r.inversion->sample), r.inversion->winding_number);
+    EXPECT_LT(r.inversion->winding_number, 0);
+    // The sample is an exact interior point rounded to doubles: in a sliver region a perturbation
+    // opened (width ~2^-40 of the scale) it may land just outside, never in a positive region.
+    const int w = test_support::winding_number(*used, r.inversion->sample);
+    EXPECT_TRUE(w == r.inversion->winding_number || (r.contacts && w <= 0)) << w;
     return {Outcome::Inverted, std::move(r)};
   }
   EXPECT_NE(r.complex, nullptr);

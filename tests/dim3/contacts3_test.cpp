@@ -262,20 +262,21 @@ TEST(Contacts3, SeededRandomBoxesOnAGrid) {
 
 // ---- local folds: no perturbation removes them (exit 3 verdicts) ----------------------------
 
-/// A sphere with vertex `v` pulled across its ring to beyond the opposite ring vertex, in the
-/// ring's plane: triangles of its star then cross each other beyond it.
+/// A coarse sphere (a bipyramid over a zig-zag hexagon) whose top vertex `v` is pulled across
+/// its own ring, to beyond ring vertices 3 and 4: triangles (3, 4, v) and (5, 0, v) of its star
+/// then cross each other beyond v (the far edge of one pierces the other).
 Surface folded_sphere(std::uint32_t& v) {
-  Surface s = sphere(12);
-  v = s.triangles[0][0];
-  std::vector<std::uint32_t> ring;
-  for (const Triangle& t : s.triangles)
-    for (int k = 0; k < 3; ++k)
-      if (t[k] == v) ring.push_back(t[(k + 1) % 3]);
-  Point3 c{0, 0, 0};
-  for (std::uint32_t r : ring)
-    for (int d = 0; d < 3; ++d) c[d] += s.vertices[r][d] / static_cast<double>(ring.size());
-  const Point3 far = s.vertices[ring.front()];
-  for (int d = 0; d < 3; ++d) s.vertices[v][d] = c[d] + 1.5 * (far[d] - c[d]);
+  Surface s;
+  const double ring[6][3] = {{4, 0, 0.5}, {2, 3, -0.5}, {-2, 3, 0.5}, {-4, 0, -0.5}, {-2, -3, 0.5}, {2, -3, -0.5}};
+  for (const auto& r : ring) s.vertices.push_back({r[0], r[1], r[2]});
+  v = 6;
+  s.vertices.push_back({-5.5, -3, 1});  // the top vertex, pulled across the ring
+  s.vertices.push_back({0, 0, -4});     // the bottom vertex
+  for (std::uint32_t k = 0; k < 6; ++k) {
+    s.triangles.push_back({k, (k + 1) % 6, 6});
+    s.triangles.push_back({(k + 1) % 6, k, 7});
+  }
+  for (std::uint32_t t = 0; t < s.triangles.size(); ++t) s.source_face.push_back(t);
   return s;
 }
 
