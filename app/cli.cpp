@@ -117,9 +117,14 @@ std::vector<CommandSpec> make_command_specs() {
       "three or more segments through one point.\n"
       "3D surfaces (OBJ, OFF, PLY, STL): unreadable or empty files, non-finite coordinates, open\n"
       "boundary, non-manifold edges or vertices, inconsistent orientation, degenerate triangles,\n"
-      "duplicate vertices or faces; coplanar overlapping triangles, surfaces touching without crossing,\n"
-      "intersections through vertices or edges (non-generic input the paper excludes). A valid surface\n"
-      "prints its triangles, components, intersecting triangle pairs, cells and maximum winding number.\n"
+      "duplicate faces. A valid surface prints its triangles, components, intersecting triangle pairs,\n"
+      "cells and maximum winding number.\n"
+      "Exact contacts (coplanar overlaps, touching without crossing, intersections through vertices or\n"
+      "edges, coincident vertices of different parts; in 2D vertices on segments, collinear overlaps,\n"
+      "three segments through a point) are listed as notes: every command resolves them by a tiny,\n"
+      "reproducible perturbation of the input and says so; with --strict they are defects (exit 2).\n"
+      "A local fold (two triangles of a vertex star crossing beyond the vertex) is a note here and\n"
+      "exit 3 elsewhere: no perturbation removes it.\n"
       "Every defect is printed with its curve/segment or triangle ids and vertex ids (0-based, file\n"
       "order; polygon faces are fan-triangulated in order) and coordinates.\n";
   check.options = {{"--strict", ValueKind::Flag, "",
