@@ -113,7 +113,7 @@ std::vector<CommandSpec> make_command_specs() {
 
   CommandSpec check;
   check.name = "check";
-  check.usage = "check IN";
+  check.usage = "check IN [--strict]";
   check.positional_help = "a 2D curve file (text, SVG, OBJ lines) or a 3D surface (OBJ, OFF, PLY, STL)";
   check.description =
       "Reads IN and validates it, then builds its cell complex.\n"
@@ -122,11 +122,19 @@ std::vector<CommandSpec> make_command_specs() {
       "three or more segments through one point.\n"
       "3D surfaces (OBJ, OFF, PLY, STL): unreadable or empty files, non-finite coordinates, open\n"
       "boundary, non-manifold edges or vertices, inconsistent orientation, degenerate triangles,\n"
-      "duplicate vertices or faces; coplanar overlapping triangles, surfaces touching without crossing,\n"
-      "intersections through vertices or edges (non-generic input the paper excludes). A valid surface\n"
-      "prints its triangles, components, intersecting triangle pairs, cells and maximum winding number.\n"
+      "duplicate faces. A valid surface prints its triangles, components, intersecting triangle pairs,\n"
+      "cells and maximum winding number.\n"
+      "Exact contacts (coplanar overlaps, touching without crossing, intersections through vertices or\n"
+      "edges, coincident vertices of different parts; in 2D vertices on segments, collinear overlaps,\n"
+      "three segments through a point) are listed as notes: every command resolves them by a tiny,\n"
+      "reproducible perturbation of the input and says so; with --strict they are defects (exit 2).\n"
+      "A local fold (two triangles of a vertex star crossing beyond the vertex) is a note here and\n"
+      "exit 3 elsewhere: no perturbation removes it.\n"
       "Every defect is printed with its curve/segment or triangle ids and vertex ids (0-based, file\n"
       "order; polygon faces are fan-triangulated in order) and coordinates.\n";
+  check.options = {{"--strict", ValueKind::Flag, "",
+       "refuse exact contacts (a vertex on a segment or triangle, touching, coplanar or collinear overlaps) with "
+       "exit 2 instead of resolving them by a tiny perturbation"}};
   check.footer =
       "Exit code 0 when the input is valid (an inverted region is reported as a note: the input is\n"
       "valid but not immersible, see 'immerse immersions'), 2 when it is not, 64 on a bad command line.\n";
@@ -150,6 +158,9 @@ std::vector<CommandSpec> make_command_specs() {
       {"--cut-mesh", ValueKind::Text, "OUT.obj",
        "(3D) the surface cut along its self-intersection curves, one OBJ group per patch, for viewers"},
   };
+  cells.options.push_back({"--strict", ValueKind::Flag, "",
+       "refuse exact contacts (a vertex on a segment or triangle, touching, coplanar or collinear overlaps) with "
+       "exit 2 instead of resolving them by a tiny perturbation"});
   cells.footer = "Exit codes: 0 ok, 2 invalid input, 3 inverted region, 64 bad command line, 1 internal error.\n";
   specs.push_back(cells);
 
@@ -172,6 +183,9 @@ std::vector<CommandSpec> make_command_specs() {
       {"--svg", ValueKind::Text, "DIR", "(2D) one drawing per immersion, DIR/immersion_K.svg (K = 0, 1, ...)"});
   immersions.options.push_back(
       {"--no-helper-boxes", ValueKind::Flag, "", "(3D) no helper boxes: a possibly self-connecting cell is the verdict"});
+  immersions.options.push_back({"--strict", ValueKind::Flag, "",
+       "refuse exact contacts (a vertex on a segment or triangle, touching, coplanar or collinear overlaps) with "
+       "exit 2 instead of resolving them by a tiny perturbation"});
   immersions.footer =
       "Exit codes: 0 immersible, 3 not immersible / inverted / self-connecting cell / budget exhausted\n"
       "(the JSON is written in every case), 2 invalid input, 64 bad command line, 1 internal error.\n";
@@ -220,6 +234,9 @@ std::vector<CommandSpec> make_command_specs() {
       {"--max-states", ValueKind::Integer, "N", "search budget in explored states (as for 'immerse immersions')", 1},
       {"--time-limit", ValueKind::Real, "S", "search budget in seconds (as for 'immerse immersions')"},
   };
+  mesh.options.push_back({"--strict", ValueKind::Flag, "",
+       "refuse exact contacts (a vertex on a segment or triangle, touching, coplanar or collinear overlaps) with "
+       "exit 2 instead of resolving them by a tiny perturbation"});
   mesh.footer =
       "Exit codes: 0 ok, 2 invalid input or a background not covering the input (or touching it\n"
       "non-generically), 3 not immersible, 64 bad command line (also: --immersion K beyond the\n"
@@ -394,6 +411,51 @@ Json defects_json(const ValidationReport& report, const std::string& facet_key) 
   return list;
 }
 
+namespace {
+std::string contact_counts_text(const ContactsView& c) {
+  std::size_t total = 0;
+  std::string kinds;
+  for (const auto& [kind, n] : *c.counts) {
+    total += n;
+    kinds += (kinds.empty() ? "" : ", ") + std::to_string(n) + " " + to_string(kind);
+  }
+  return plural(total, "exact contact") + " (" + kinds + ")";
+}
+}  // namespace
+
+void print_contacts_note(Session& s, const std::string& path, const ContactsView& c, bool list) {
+  if (c.perturbation != nullptr) {
+    const PerturbationSummary& p = *c.perturbation;
+    char size[160];
+    std::snprintf(size, sizeof size, "%.3g (%.3g of the bounding-box diagonal; %zu vertices moved, seed %llu)",
+                  p.max_displacement, p.diagonal > 0 ? p.max_displacement / p.diagonal : 0.0, p.moved_vertices,
+                  static_cast<unsigned long long>(p.attempt.seed));
+    s.err() << "immerse: note: '" << path << "' has " << contact_counts_text(c)
+            << ", resolved by perturbing the input by at most " << size
+            << ": every result is exact for the perturbed input (solids touching from outside come apart by a thin "
+               "gap); --strict refuses them\n";
+  } else {
+    s.err() << "immerse: note: '" << path << "' has " << contact_counts_text(c) << '\n';
+  }
+  if (list) s.err() << c.found->summary(std::numeric_limits<std::size_t>::max());
+}
+
+Json contacts_json(const ContactsView& c, const std::string& facet_key) {
+  Json j = Json::object();
+  j["resolved"] = c.perturbation != nullptr;
+  Json& counts = (j["counts"] = Json::object());
+  for (const auto& [kind, n] : *c.counts) counts[to_string(kind)] = n;
+  if (c.perturbation != nullptr) {
+    j["max_displacement"] = c.perturbation->max_displacement;
+    j["diagonal"] = c.perturbation->diagonal;
+    j["amplitude"] = c.perturbation->amplitude;
+    j["seed"] = c.perturbation->attempt.seed;
+    j["moved_vertices"] = c.perturbation->moved_vertices;
+  }
+  j["listed"] = defects_json(*c.found, facet_key);
+  return j;
+}
+
 Json conflict_json(const Conflict& c) {
   Json j = Json::object();
   j["rule"] = c.rule;
@@ -505,6 +567,9 @@ struct Prepared {
   ValidationReport report;                 ///< defects: exit 2
   std::optional<dim2::Inversion> inversion;///< set: exit 3 (check: a note)
   std::shared_ptr<dim2::Complex2> complex;
+  std::optional<dim2::Contacts2> contacts;  ///< exact contacts (resolved unless --strict)
+  bool list_contacts = false;               ///< print every contact (check)
+  ValidationReport folds;                   ///< local folds: none in 2D (a curve's star is two segments)
 };
 
 Json inversion_json(const Prepared& p) {
@@ -524,6 +589,11 @@ Json input_json(const Prepared& p) {
   j["curves"] = p.curves.curves.size();
   j["vertices"] = p.curves.vertex_count();
   j["reversed"] = p.complex ? Json(p.complex->reversed) : Json();
+  if (p.contacts) {
+    j["contacts"] = contacts_json({&p.contacts->found, &p.contacts->counts,
+                                   p.contacts->perturbation ? &*p.contacts->perturbation : nullptr},
+                                  "segments");
+  }
   return j;
 }
 
@@ -542,7 +612,16 @@ int prepare_curves(Session& s, Prepared& p) {
     print_defects(s, p);
     return kExitInvalidInput;
   }
-  dim2::BuildResult built = s.timed("complex", [&] { return dim2::build_complex(p.curves); });
+  dim2::BuildOptions2 options;
+  options.strict = s.strict();
+  dim2::BuildResult built = s.timed("complex", [&] { return dim2::build_complex(p.curves, options); });
+  p.contacts = std::move(built.contacts);
+  if (p.contacts) {
+    print_contacts_note(s, p.path,
+                        {&p.contacts->found, &p.contacts->counts,
+                         p.contacts->perturbation ? &*p.contacts->perturbation : nullptr},
+                        p.list_contacts);
+  }
   if (!built.report.ok()) {
     p.report = std::move(built.report);
     print_defects(s, p);
@@ -665,6 +744,7 @@ int command_check(Session& s, const CommandLine& cl) {
   if (is_surface_file(cl.positional[0])) return check_surface(s, cl.positional[0]);
   Prepared p;
   p.path = cl.positional[0];
+  p.list_contacts = true;
   if (const int code = prepare_curves(s, p); code != kExitOk) return code;
   s.out() << describe_input(p) << ": valid";
   if (p.inversion) {
@@ -1037,6 +1117,7 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   }
   CommandLine cl;
   if (auto code = parse_command(env, *spec, std::vector<std::string>(args.begin() + 1, args.end()), cl)) return *code;
+  s.set_strict(cl.has("--strict"));
   if (command == "check") return command_check(s, cl);
   if (command == "cells") return command_cells(s, cl);
   if (command == "immersions") return command_immersions(s, cl);

@@ -28,6 +28,7 @@
 #include "app/cli.h"
 #include "app/command_line.h"
 #include "core/diagnostics.h"
+#include "core/perturbation.h"
 #include "core/graph_search.h"
 #include "dim3/mesh3.h"
 
@@ -118,6 +119,9 @@ class Session {
   /// What the summary line says before the timings ("4 cells, 8 patches, ...").
   void set_counts(std::string text) { counts_ = std::move(text); }
   void enable_summary() { summary_ = true; }
+  /// --strict: refuse exact contacts (exit 2) instead of resolving them by a perturbation.
+  void set_strict(bool strict) { strict_ = strict; }
+  [[nodiscard]] bool strict() const { return strict_; }
 
   /// Writes `content` to `path` atomically (creating parent directories), records it for the
   /// listing. @return false (after printing why) on failure.
@@ -161,6 +165,7 @@ class Session {
   std::vector<std::pair<std::string, double>> stages_;
   std::string counts_;
   bool summary_ = false;
+  bool strict_ = false;
   std::vector<std::pair<std::string, std::string>> written_;
 };
 
@@ -194,6 +199,19 @@ void print_immersion_list(Session& s, const std::string& description, const Sear
 
 /// Every defect: kind, stage, message, `facet_key` (segments / triangles), vertices, points.
 Json defects_json(const ValidationReport& report, const std::string& facet_key);
+
+/// Exact contacts of an input and the perturbation that resolved them (DESIGN §5), as the
+/// library reports them (dim2::Contacts2, dim3::Contacts3).
+struct ContactsView {
+  const ValidationReport* found = nullptr;
+  const std::vector<std::pair<DefectKind, std::size_t>>* counts = nullptr;
+  const PerturbationSummary* perturbation = nullptr;  ///< null: not resolved
+};
+/// Prints "note: N exact contacts (...) resolved by a perturbation of at most D ..."; with
+/// `list` every listed contact too (check).
+void print_contacts_note(Session& s, const std::string& path, const ContactsView& c, bool list);
+/// {"resolved", "counts": {kind: n}, "max_displacement", "diagonal", "amplitude", "seed", "listed"}.
+Json contacts_json(const ContactsView& c, const std::string& facet_key);
 Json conflict_json(const Conflict& c);
 Json immersion_json(const Immersion& im, std::size_t index);
 Json stats_json(const SearchStats& s);
@@ -311,6 +329,9 @@ Json early_json(const P& p, const Session& s) {
   } else if (p.inversion) {
     j["status"] = "inverted";
     j["inversion"] = inversion_json(p);
+  } else if (!p.folds.ok()) {
+    j["status"] = "local-fold";
+    j["folds"] = defects_json(p.folds, P::kFacetKey);
   }
   j["timings_ms"] = s.timings_json();
   return j;

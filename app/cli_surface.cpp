@@ -56,7 +56,14 @@ struct PreparedSurface {
   ValidationReport report;                    ///< defects: exit 2
   std::optional<dim3::Inversion3> inversion;  ///< set: exit 3 (check: a note)
   std::shared_ptr<Complex3> complex;
+  std::optional<dim3::Contacts3> contacts;    ///< exact contacts (resolved unless --strict)
+  ValidationReport folds;                     ///< local folds: exit 3 (check: a note)
+  bool list_contacts = false;                 ///< print every contact (check)
 };
+
+ContactsView contacts_view(const dim3::Contacts3& c) {
+  return {&c.found, &c.counts, c.perturbation ? &*c.perturbation : nullptr};
+}
 
 Json point_json(const Point3& p) { return cli::point_json(p); }
 
@@ -74,6 +81,7 @@ Json input_json(const PreparedSurface& p) {
   j["triangles"] = p.surface.triangle_count();
   j["vertices"] = p.surface.vertex_count();
   j["reversed"] = p.complex ? Json(p.complex->reversed) : Json();
+  if (p.contacts) j["contacts"] = contacts_json(contacts_view(*p.contacts), "triangles");
   return j;
 }
 
@@ -91,6 +99,14 @@ Json inversion_json(const PreparedSurface& p) {
   for (long t : inv.triangles) triangles.emplace_back(t);
   j["message"] = inv.message;
   return j;
+}
+
+/// A local fold: two triangles of one vertex star cross beyond the vertex (DESIGN §5).
+void print_folds(Session& s, const PreparedSurface& p) {
+  s.err() << "immerse: '" << p.path << "' is not immersible: " << plural(p.folds.total(), "local fold")
+          << " (no perturbation removes a fold, and no immersed solid has a folded boundary)\n"
+          << p.folds.summary(std::numeric_limits<std::size_t>::max());
+  s.set_counts("local fold, not immersible");
 }
 
 void print_reversed_note(Session& s, const PreparedSurface& p) {
@@ -111,15 +127,24 @@ int read_input(Session& s, PreparedSurface& p) {
   return kExitOk;
 }
 
-/// Reads, validates and builds the cell complex. @return kExitOk, or kExitInvalidInput after
-/// printing every defect. An inversion is left in p.inversion for the caller.
+/// Reads, validates and builds the cell complex. @return kExitOk, kExitInvalidInput after
+/// printing every defect, or kExitNotImmersible after printing local folds (p.folds). An
+/// inversion is left in p.inversion for the caller.
 int prepare_surface(Session& s, PreparedSurface& p, bool exact_volumes) {
   if (const int code = read_input(s, p); code != kExitOk) return code;
   dim3::BuildOptions3 options;
   options.exact_volumes = exact_volumes;
   options.progress = s.progress("");  // the library's messages name their stages
+  options.strict = s.strict();
   dim3::BuildResult3 built =
       s.timed("complex", [&] { return dim3::build_complex3(p.surface, options); });
+  p.contacts = std::move(built.contacts);
+  if (p.contacts) print_contacts_note(s, p.path, contacts_view(*p.contacts), p.list_contacts);
+  if (!built.folds.ok()) {
+    p.folds = std::move(built.folds);
+    print_folds(s, p);
+    return kExitNotImmersible;
+  }
   if (!built.report.ok()) {
     p.report = std::move(built.report);
     print_defects(s, p.path, p.report);
@@ -231,7 +256,13 @@ bool names_helper_triangles(const ValidationReport& report, std::size_t input_tr
 int check_surface(Session& s, const std::string& path) {
   PreparedSurface p;
   p.path = path;
-  if (const int code = prepare_surface(s, p, /*exact_volumes=*/false); code != kExitOk) return code;
+  p.list_contacts = true;
+  if (const int code = prepare_surface(s, p, /*exact_volumes=*/false); code != kExitOk) {
+    if (code != kExitNotImmersible || p.folds.ok()) return code;
+    s.out() << describe_input(p) << ": valid\nnote: " << plural(p.folds.total(), "local fold")
+            << " (above)\n(the input is valid but not immersible: 'immerse immersions' exits with code 3)\n";
+    return kExitOk;
+  }
   s.out() << describe_input(p) << ": valid";
   if (p.inversion) {
     s.out()
@@ -290,10 +321,18 @@ int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, con
   options.build.exact_volumes = false;      // the search reads no volume
   options.build.progress = s.progress("");  // the library's messages name their stages
   options.search = search_options(s, request);
+  options.build.strict = s.strict();
   if (cl.has("--no-helper-boxes")) options.max_boxes = 0;
   im = dim3::immerse_surface(p.surface, options);
   s.add_time("complex", im.build_seconds);
+  p.contacts = im.contacts;
+  if (p.contacts) print_contacts_note(s, p.path, contacts_view(*p.contacts), false);
   for (const std::string& note : im.notes) s.err() << "immerse: note: " << note << '\n';
+  if (!im.build.folds.ok()) {
+    p.folds = im.build.folds;
+    print_folds(s, p);
+    return fail_early(kExitNotImmersible);
+  }
 
   if (!im.build.report.ok()) {
     p.report = im.build.report;

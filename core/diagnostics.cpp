@@ -23,6 +23,7 @@ const char* to_string(DefectKind kind) {
     case DefectKind::TriplePoint: return "triple-point";
     case DefectKind::NotCovered: return "not-covered";
     case DefectKind::OutOfRange: return "out-of-range";
+    case DefectKind::LocalFold: return "local-fold";
   }
   return "unknown";
 }

@@ -31,6 +31,9 @@ enum class DefectKind {
   TriplePoint,            ///< three or more sheets through one point (2D) / non-generic (3D)
   NotCovered,             ///< a background mesh that does not cover the input (meshing)
   OutOfRange,             ///< coordinates a double-precision step (mesh generation) cannot take
+  /// Two facets of one vertex star cross beyond the vertex (3D): the surface is not locally
+  /// embedded there and no perturbation removes it; a verdict (exit 3), not a file defect.
+  LocalFold,
 };
 
 /// A short, stable name for a kind ("collinear-overlap", ...), used in messages and JSON.

@@ -10,12 +10,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <unordered_map>
 
+#include "core/perturbation.h"
 #include "dim2/complex2.h"
 #include "dim2/cut_curve.h"
 #include "dim2/kernel.h"
@@ -161,7 +163,85 @@ Rational tree_sum(std::vector<Rational> terms) {
 
 }  // namespace
 
-BuildResult build_complex(const CurveSet& input) {
+namespace {
+/// One exact build of the given curves (no perturbation): defects for every contact.
+BuildResult build_once(const CurveSet& input);
+}  // namespace
+
+BuildResult build_complex(const CurveSet& input, const BuildOptions2& options) {
+  const auto start_time = std::chrono::steady_clock::now();
+  BuildResult result = build_once(input);
+  const bool contacts_only =
+      !result.report.ok() && std::all_of(result.report.defects.begin(), result.report.defects.end(),
+                                         [](const Defect& d) { return d.stage == kStage; });
+  if (options.strict || !contacts_only) return result;
+  // Exact contacts: the first perturbation under which every decision is generic (DESIGN §5).
+  Contacts2 contacts;
+  contacts.found = std::move(result.report);
+  for (const Defect& d : contacts.found.defects) {
+    auto it = std::find_if(contacts.counts.begin(), contacts.counts.end(),
+                           [&](const auto& c) { return c.first == d.kind; });
+    if (it == contacts.counts.end()) contacts.counts.emplace_back(d.kind, 1);
+    else ++it->second;
+  }
+  // Inward: against the outward normals of a vertex's two segments (the right side of a
+  // counter-clockwise curve; reversed when the whole input is clockwise). Keys mix a vertex's
+  // coordinates with its two neighbours' (independent of the vertex order).
+  std::vector<std::array<double, 2>> start_points, inward;
+  std::vector<std::uint64_t> keys;
+  double twice_area = 0.0;
+  for (const Curve& c : input.curves) {
+    const std::size_t m = c.vertices.size();
+    for (std::size_t i = 0; i < m; ++i) {
+      const Point &p = c.vertices[(i + m - 1) % m], &q = c.vertices[i], &r = c.vertices[(i + 1) % m];
+      start_points.push_back({q.x, q.y});
+      twice_area += q.x * r.y - r.x * q.y;
+      // The left normals of p->q and q->r, summed: toward the inside of a counter-clockwise curve.
+      inward.push_back({-((q.y - p.y) + (r.y - q.y)), (q.x - p.x) + (r.x - q.x)});
+      const std::uint64_t own = point_key(std::array<double, 2>{q.x, q.y});
+      keys.push_back(mix64(own ^ mix64(mix64(point_key(std::array<double, 2>{p.x, p.y})) +
+                                       mix64(point_key(std::array<double, 2>{r.x, r.y})))));
+    }
+  }
+  for (auto& d : inward) {
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1]);
+    const double sign = twice_area < 0.0 ? -1.0 : 1.0;
+    for (double& x : d) x = len > 0.0 && std::isfinite(len) ? sign * x / len : 0.0;
+  }
+  ValidationReport last;
+  for (const PerturbationAttempt& attempt : perturbation_schedule()) {
+    ++contacts.attempts;
+    std::vector<std::array<double, 2>> points = start_points;
+    const PerturbationSummary summary = perturb_points(points, inward, keys, attempt);
+    CurveSet moved = input;
+    std::size_t i = 0;
+    for (Curve& c : moved.curves)
+      for (Point& p : c.vertices) {
+        p = {points[i][0], points[i][1]};
+        ++i;
+      }
+    BuildResult again = build_once(moved);
+    if (!again.report.ok()) {
+      last = std::move(again.report);
+      continue;
+    }
+    contacts.perturbation = summary;
+    contacts.resolved = std::move(moved);
+    again.contacts = std::move(contacts);
+    again.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+    return again;
+  }
+  result.report = std::move(last);
+  result.report.add(Defect{DefectKind::Touching, kStage,
+                           "the input's exact contacts were not resolved by " + std::to_string(contacts.attempts) +
+                               " perturbations (above: the last one's)",
+                           {}, {}, {}});
+  result.contacts = std::move(contacts);
+  return result;
+}
+
+namespace {
+BuildResult build_once(const CurveSet& input) {
   const auto start_time = std::chrono::steady_clock::now();
   BuildResult result;
   auto finish = [&]() -> BuildResult {
@@ -566,5 +646,7 @@ BuildResult build_complex(const CurveSet& input) {
   result.complex = std::move(complex2);
   return finish();
 }
+
+}  // namespace
 
 }  // namespace imm::dim2

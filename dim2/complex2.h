@@ -5,9 +5,11 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/cell_complex.h"
+#include "core/perturbation.h"
 #include "dim2/curves.h"
 
 namespace imm::dim2 {
@@ -56,9 +58,26 @@ struct Inversion {
   std::string message;
 };
 
+/// Exact contacts of the input (a vertex on a segment, coincident vertices, collinear overlaps,
+/// three segments through one point) and how they were resolved (DESIGN §5): the input was
+/// replaced by a perturbed copy (core/perturbation.h) on which every exact decision is generic.
+struct Contacts2 {
+  ValidationReport found;  ///< the contacts of the input, as the arrangement found them, with ids
+  std::vector<std::pair<DefectKind, std::size_t>> counts;  ///< per kind
+  std::optional<PerturbationSummary> perturbation;        ///< set when resolved
+  std::size_t attempts = 0;                               ///< perturbations tried
+  CurveSet resolved;  ///< the perturbed curves (same ids), the ones the complex was built from
+};
+
+struct BuildOptions2 {
+  /// Refuse exact contacts (exit 2, every contact listed) instead of resolving them.
+  bool strict = false;
+};
+
 struct BuildResult {
   ValidationReport report;            ///< non-empty: invalid input (exit 2)
   std::optional<Inversion> inversion; ///< set: valid input, not immersible (exit 3)
+  std::optional<Contacts2> contacts;  ///< set when the input had exact contacts
   std::shared_ptr<Complex2> complex;  ///< set when the complex was built
   double seconds = 0.0;
 };
@@ -66,7 +85,11 @@ struct BuildResult {
 /// Builds the exact arrangement of all segments (CGAL Arrangement_2 over Epeck), validates
 /// genericity (no collinear overlaps, no touching without crossing, no triple points), and
 /// extracts regions, winding numbers, patches, arcs and the cyclic junction order at each arc.
+/// Exact contacts are resolved by an explicit, reproducible perturbation of at most 2^-30 of the
+/// diagonal (the first attempt of perturbation_schedule() on which every decision is generic;
+/// Complex2::curves then holds the perturbed curves), unless `options.strict`; a generic input
+/// is never perturbed.
 /// Paper: §4.1–4.3.
-BuildResult build_complex(const CurveSet& curves);
+BuildResult build_complex(const CurveSet& curves, const BuildOptions2& options = {});
 
 }  // namespace imm::dim2

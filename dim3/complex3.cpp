@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <numeric>
@@ -691,18 +692,150 @@ Surface flipped(const Surface& s) {
 
 }  // namespace
 
+namespace {
+
+/// The defects of one kind (listed ones) split from the rest.
+ValidationReport take_kind(ValidationReport& report, DefectKind kind) {
+  ValidationReport taken, rest;
+  for (Defect& d : report.defects) (d.kind == kind ? taken : rest).add(std::move(d));
+  rest.unlisted = report.unlisted;
+  report = std::move(rest);
+  return taken;
+}
+
+bool has_kind(const std::vector<std::pair<DefectKind, std::size_t>>& counts, DefectKind kind) {
+  return std::any_of(counts.begin(), counts.end(), [&](const auto& c) { return c.first == kind && c.second > 0; });
+}
+
+void add_counts(std::vector<std::pair<DefectKind, std::size_t>>& into, const ValidationReport& report) {
+  for (const Defect& d : report.defects) {
+    auto it = std::find_if(into.begin(), into.end(), [&](const auto& c) { return c.first == d.kind; });
+    if (it == into.end()) into.emplace_back(d.kind, 1);
+    else ++it->second;
+  }
+}
+
+/// The contact-resolving perturbation of a surface (core/perturbation.h): inward is against the
+/// area-weighted normal of each vertex star (outward for a counter-clockwise-from-outside input;
+/// reversed when the whole input is inside-out), keys mix each vertex's coordinates with its
+/// neighbours' (independent of the vertex order).
+PerturbationSummary perturb_surface(Surface& s, const PerturbationAttempt& attempt) {
+  const std::size_t n = s.vertex_count();
+  std::vector<std::array<double, 3>> inward(n, {0, 0, 0});
+  std::vector<std::uint64_t> own(n), link(n, 0), keys(n);
+  for (std::size_t v = 0; v < n; ++v) own[v] = point_key(s.vertices[v]);
+  for (const Triangle& t : s.triangles) {
+    const Point3 &a = s.vertices[t[0]], &b = s.vertices[t[1]], &c = s.vertices[t[2]];
+    const std::array<double, 3> u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const std::array<double, 3> normal{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    for (int k = 0; k < 3; ++k) {
+      for (int d = 0; d < 3; ++d) inward[t[k]][d] -= normal[d];
+      link[t[k]] += mix64(own[t[(k + 1) % 3]]) + mix64(own[t[(k + 2) % 3]] ^ 0xA5A5A5A5ull);
+    }
+  }
+  const double sign = signed_volume(s) < 0.0 ? -1.0 : 1.0;
+  for (std::size_t v = 0; v < n; ++v) {
+    keys[v] = mix64(own[v] ^ mix64(link[v]));
+    const double len = std::sqrt(inward[v][0] * inward[v][0] + inward[v][1] * inward[v][1] + inward[v][2] * inward[v][2]);
+    for (int d = 0; d < 3; ++d) inward[v][d] = len > 0.0 && std::isfinite(len) ? sign * inward[v][d] / len : 0.0;
+  }
+  return perturb_points(s.vertices, inward, keys, attempt);
+}
+
+/// Only coincident vertices (two ids, one exact position): a contact, not a broken file. The
+/// validator lists every kind it finds at least once, so the listed kinds are all the kinds.
+bool only_coincident_vertices(const ValidationReport& report) {
+  return !report.ok() && std::all_of(report.defects.begin(), report.defects.end(),
+                                     [](const Defect& d) { return d.kind == DefectKind::DuplicateVertex; });
+}
+
+}  // namespace
+
 BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options) {
   const auto start = std::chrono::steady_clock::now();
   BuildResult3 result;
+  const auto finish = [&]() -> BuildResult3 {
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return std::move(result);
+  };
   result.report = validate_surface(surface);
-  if (!result.report.ok()) return result;
+  if (!result.report.ok() && (options.strict || !only_coincident_vertices(result.report))) return finish();
+
+  // The generic path: the input itself, refined once (a generic input is never perturbed).
+  const Surface* base = &surface;  // the perturbed copy (in result.contacts) when contacts were resolved
+  RefineResult refined;
+  if (result.report.ok()) refined = refine_surface(surface, options.progress, options.threads);
+  if (!result.report.ok() || !refined.report.ok()) {
+    Contacts3 contacts;
+    contacts.found = std::move(result.report);
+    add_counts(contacts.counts, contacts.found);
+    result.report = {};
+    if (has_kind(refined.counts, DefectKind::LocalFold)) {
+      // A robust crossing inside a vertex star: no perturbation removes it (exit 3).
+      result.folds = take_kind(refined.report, DefectKind::LocalFold);
+      for (const auto& c : refined.counts)
+        if (c.first == DefectKind::LocalFold && c.second > result.folds.defects.size())
+          result.folds.unlisted = c.second - result.folds.defects.size();
+    }
+    for (Defect& d : refined.report.defects) contacts.found.add(std::move(d));
+    contacts.found.unlisted += refined.report.unlisted;
+    for (const auto& c : refined.counts)
+      if (c.first != DefectKind::LocalFold) contacts.counts.push_back(c);
+    if (!result.folds.ok() || options.strict) {
+      if (options.strict && result.folds.ok()) result.report = std::move(contacts.found);
+      else result.contacts = std::move(contacts);
+      return finish();
+    }
+    // Resolve: the first perturbation under which every exact decision is generic.
+    ValidationReport last;
+    for (const PerturbationAttempt& attempt : perturbation_schedule()) {
+      ++contacts.attempts;
+      Surface moved = surface;
+      const PerturbationSummary summary = perturb_surface(moved, attempt);
+      if (options.progress) {
+        options.progress("contacts: perturbing by at most 2^-" + std::to_string(attempt.bits) +
+                         " of the scale (seed " + std::to_string(attempt.seed) + ")");
+      }
+      ValidationReport valid = validate_surface(moved);
+      if (!valid.ok()) {
+        last = std::move(valid);
+        continue;
+      }
+      RefineResult again = refine_surface(moved, options.progress, options.threads);
+      if (!again.report.ok()) {
+        last = std::move(again.report);
+        continue;
+      }
+      contacts.perturbation = summary;
+      contacts.resolved = std::move(moved);
+      refined = std::move(again);
+      break;
+    }
+    if (!contacts.perturbation) {
+      // Every attempt still meets a contact or a fold: folds are verdicts, the rest defects.
+      ValidationReport folds = take_kind(last, DefectKind::LocalFold);
+      if (!folds.ok()) {
+        result.folds = std::move(folds);
+      } else {
+        result.report = std::move(last);
+        result.report.add(Defect{DefectKind::Touching, "intersect",
+                                 "the input's exact contacts were not resolved by " +
+                                     std::to_string(contacts.attempts) + " perturbations (above: the last one's)",
+                                 {}, {}, {}});
+      }
+      result.contacts = std::move(contacts);
+      return finish();
+    }
+    result.contacts = std::move(contacts);
+    base = &result.contacts->resolved;
+  }
+
   for (int attempt = 0; attempt < 2; ++attempt) {
     const bool reversed = attempt == 1;
-    const Surface input = reversed ? flipped(surface) : surface;
-    RefineResult refined = refine_surface(input, options.progress, options.threads);
-    if (!refined.report.ok()) {
-      result.report = std::move(refined.report);
-      break;
+    const Surface input = reversed ? flipped(*base) : *base;
+    if (reversed) {
+      refined = refine_surface(input, options.progress, options.threads);
+      IMM_ASSERT(refined.report.ok(), "flipping a generic surface made it non-generic");
     }
     auto c3 = std::make_shared<Complex3>();
     std::optional<Inversion3> inversion;
@@ -720,8 +853,7 @@ BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options
     result.complex = std::move(c3);
     break;
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return result;
+  return finish();
 }
 
 std::string format_cut_mesh_obj(const Complex3& c3) {

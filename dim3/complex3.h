@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "core/cell_complex.h"
+#include "core/perturbation.h"
 #include "dim3/surface.h"
 
 namespace imm::dim3 {
@@ -107,16 +108,43 @@ struct BuildOptions3 {
   /// Threads for the per-triangle triangulations (0 = all cores). The result is the same for
   /// every value.
   unsigned threads = 0;
+  /// Refuse exact contacts (exit 2, every contact listed) instead of resolving them by a
+  /// perturbation (DESIGN §5). For users who want to fix their mesh, and for steps that place
+  /// their own geometry (helper boxes move instead).
+  bool strict = false;
+};
+
+/// Exact contacts of the input and how they were resolved (DESIGN §5): the input was replaced by
+/// a perturbed copy (core/perturbation.h) on which every exact decision is generic.
+struct Contacts3 {
+  /// The contacts as the exact steps found them on the input (coincident vertices from the
+  /// validator, then the intersection's contacts), listed up to a cap per kind, with ids.
+  ValidationReport found;
+  std::vector<std::pair<DefectKind, std::size_t>> counts;  ///< every contact found, per kind
+  std::optional<PerturbationSummary> perturbation;  ///< set when resolved
+  std::size_t attempts = 0;                         ///< perturbations tried
+  /// The perturbed surface (same ids as the input), the one the complex was built from.
+  Surface resolved;
 };
 
 struct BuildResult3 {
   ValidationReport report;               ///< non-empty: invalid input (exit 2)
   std::optional<Inversion3> inversion;   ///< set: valid input, not immersible (exit 3)
+  /// Non-empty: local folds (DefectKind::LocalFold), a not-immersible verdict (exit 3): two
+  /// triangles of one vertex star cross beyond the vertex, which no perturbation removes.
+  ValidationReport folds;
+  /// Set when the input had exact contacts (resolved or not; see Contacts3::perturbation).
+  std::optional<Contacts3> contacts;
   std::shared_ptr<Complex3> complex;     ///< set when the complex was built
   double seconds = 0.0;
 };
 
 /// Validates (validate_surface), intersects exactly, and builds the complex. Paper §4.1–4.3.
+/// Exact contacts (a vertex on a triangle, an edge through an edge, coplanar overlaps, coincident
+/// vertices, an intersection curve through a vertex or an edge) are resolved by an explicit,
+/// reproducible perturbation of at most 2^-30 of the diagonal (perturbation_schedule(), the first
+/// attempt on which every exact decision is generic), unless `options.strict`; a generic input is
+/// never perturbed. The complex then describes the perturbed surface (Complex3::surface).
 BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options = {});
 
 /// The cut mesh as OBJ, one group `patch_K` per patch (per-sheet vertices), for viewers.

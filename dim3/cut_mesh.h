@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/diagnostics.h"
@@ -73,7 +74,10 @@ struct CutMesh {
 };
 
 struct RefineResult {
-  ValidationReport report;  ///< non-generic contacts (exit 2); empty when the mesh was cut
+  /// Non-generic contacts and local folds (DefectKind::LocalFold), listed up to a cap per kind;
+  /// empty when the mesh was cut.
+  ValidationReport report;
+  std::vector<std::pair<DefectKind, std::size_t>> counts;  ///< every defect found, per kind
   std::shared_ptr<CutMesh> mesh;
 };
 

@@ -75,6 +75,8 @@ class DefectSink {
     }
     return std::move(report_);
   }
+  /// Every defect found per kind, listed or not.
+  [[nodiscard]] std::vector<std::pair<DefectKind, std::size_t>> counts() const { return {count_.begin(), count_.end()}; }
 
  private:
   std::map<DefectKind, std::size_t> count_;
@@ -87,6 +89,13 @@ class Refiner {
  public:
   Refiner(const Surface& s, const LogCallback& progress, unsigned threads)
       : s_(s), progress_(progress), threads_(threads) {}
+
+  RefineResult failed() {
+    RefineResult r;
+    r.counts = defects_.counts();
+    r.report = defects_.finish();
+    return r;
+  }
 
   RefineResult run() {
     auto mesh = std::make_shared<CutMesh>();
@@ -105,7 +114,7 @@ class Refiner {
     tri_segments_.assign(s_.triangle_count(), {});
     edge_points_.assign(m_->edges.size(), {});
     for (const auto& [a, b] : candidates) classify(a, b);
-    if (!defects_.empty()) return {defects_.finish(), nullptr};
+    if (!defects_.empty()) return failed();
     m_->intersecting_pairs = segments_.size();
     m_->edge_triangle_points = m_->points.size() - s_.vertex_count();
     log("intersect: " + std::to_string(segments_.size()) + " crossing pairs, " +
@@ -115,15 +124,15 @@ class Refiner {
     log("intersect: intersection points ordered along their edges");
     find_triple_points();
     log("intersect: " + std::to_string(triples_.size()) + " triple points");
-    if (!defects_.empty()) return {defects_.finish(), nullptr};
+    if (!defects_.empty()) return failed();
     m_->triple_points = triples_.size();
     assign_sheet_vertices();
     triangulate_all(threads_);
-    if (!defects_.empty()) return {defects_.finish(), nullptr};
+    if (!defects_.empty()) return failed();
     check_pieces();
     log("cut: " + std::to_string(m_->triangles.size()) + " sub-triangles, " + std::to_string(m_->pieces.size()) +
         " cut edges, " + std::to_string(m_->triple_points) + " triple points");
-    return {ValidationReport{}, std::move(mesh)};
+    return {ValidationReport{}, {}, std::move(mesh)};
   }
 
  private:
@@ -234,6 +243,17 @@ class Refiner {
       return;
     }
     const std::uint32_t v = s_.triangles[a][ia];
+    // A robust crossing: the far edge of one triangle crosses the other's interior transversally.
+    // Every small perturbation keeps it, so it is a local fold, not a contact.
+    for (int side = 0; side < 2; ++side) {
+      const std::uint32_t t = side == 0 ? a : b, u = side == 0 ? b : a;
+      const int k = ((side == 0 ? ia : ib) + 1) % 3;  // edge k joins corners k and k + 1: the far edge
+      const CGAL::Orientation op = CGAL::orientation(ip(u, 0), ip(u, 1), ip(u, 2), ip(t, k));
+      const CGAL::Orientation oq = CGAL::orientation(ip(u, 0), ip(u, 1), ip(u, 2), ip(t, (k + 1) % 3));
+      if (op == CGAL::COPLANAR || oq == CGAL::COPLANAR || op == oq || edge_crosses(t, k, u) != 1) continue;
+      local_fold(v, t, u, k);
+      return;
+    }
     const bool coplanar = CGAL::orientation(ip(a, 0), ip(a, 1), ip(a, 2), b1) == CGAL::COPLANAR &&
                           CGAL::orientation(ip(a, 0), ip(a, 1), ip(a, 2), b2) == CGAL::COPLANAR;
     if (coplanar) {
@@ -248,6 +268,33 @@ class Refiner {
                  " and intersect beyond it: an intersection curve passes through an input vertex (non-generic)",
              {a, b}, {v});
     }
+  }
+
+  /// Triangles t and u of vertex v's star cross beyond v: edge k of t (the far edge) crosses u's
+  /// interior. Reported with the crossing point (rounded) as the place to look.
+  void local_fold(std::uint32_t v, std::uint32_t t, std::uint32_t u, int k) {
+    const Point3 &a = s_.vertices[s_.triangles[u][0]], &b = s_.vertices[s_.triangles[u][1]],
+                 &c = s_.vertices[s_.triangles[u][2]];
+    const Point3 &p = s_.vertices[s_.triangles[t][k]], &q = s_.vertices[s_.triangles[t][(k + 1) % 3]];
+    const auto det = [&](const Point3& x) {
+      const double u0 = b[0] - a[0], u1 = b[1] - a[1], u2 = b[2] - a[2];
+      const double v0 = c[0] - a[0], v1 = c[1] - a[1], v2 = c[2] - a[2];
+      const double w0 = x[0] - a[0], w1 = x[1] - a[1], w2 = x[2] - a[2];
+      return u0 * (v1 * w2 - v2 * w1) - u1 * (v0 * w2 - v2 * w0) + u2 * (v0 * w1 - v1 * w0);
+    };
+    const double dp = det(p), dq = det(q), lambda = dp / (dp - dq);
+    const Point3 x{p[0] + (q[0] - p[0]) * lambda, p[1] + (q[1] - p[1]) * lambda, p[2] + (q[2] - p[2]) * lambda};
+    const std::uint32_t lo = std::min(t, u), hi = std::max(t, u);
+    std::vector<std::vector<double>> pts{coords(s_.vertices[v]), coords(x)};
+    defects_.add(Defect{DefectKind::LocalFold, "intersect",
+                        "vertex " + std::to_string(v) + " " + format_point(s_.vertices[v]) + ": " +
+                            describe_triangle(lo) + " and " + describe_triangle(hi) +
+                            " of its star cross each other beyond it (from the vertex to about " + format_point(x) +
+                            "): a local fold. The surface is not embedded around the vertex, so it bounds no "
+                            "immersed solid there, and no small perturbation removes the crossing",
+                        {lo, hi},
+                        {v},
+                        std::move(pts)});
   }
 
   /// Edge k of triangle t crossing the interior of triangle u: 1 crossing, 0 missing, -1 touching

@@ -71,10 +71,18 @@ Immersed3 immerse_surface(const Surface& surface, const ImmerseOptions3& options
   Box3 pending_cell;            // bounding box of the cell it cuts
   bool reversed_input = false;  // build_complex3 flips inside-out input as a whole
   Surface before_box;
+  BuildOptions3 build_options = options.build;
   while (true) {
     auto start = std::chrono::steady_clock::now();
-    BuildResult3 build = build_complex3(current, options.build);
+    BuildResult3 build = build_complex3(current, build_options);
     out.build_seconds += seconds_since(start);
+    if (!out.contacts && build.contacts) {
+      // The user's contacts, resolved (or not) on the first build. Later builds start from the
+      // perturbed surface and are strict: a helper box that touches it is moved, not perturbed.
+      out.contacts = build.contacts;
+      if (build.contacts->perturbation) current = build.contacts->resolved;
+    }
+    build_options.strict = true;
     if (pending && !build.report.ok() && attempt < 4) {
       // The helper box touched the surface in a non-generic way: move its face and retry.
       out.notes.push_back("helper box " + describe_box(*pending) + " touches the input non-generically; moved");

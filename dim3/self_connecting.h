@@ -11,6 +11,7 @@
 // triangles, so later steps can drop them (their tets form separate components).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,9 @@ struct Immersed3 {
   std::size_t input_triangles = 0;    ///< triangles [0, input_triangles) are the user's
   std::size_t input_vertices = 0;     ///< vertices [0, input_vertices) are the user's
   std::vector<std::string> notes;     ///< what was done about self-connecting cells
+  /// The user's exact contacts and their resolution (first build); `surface` then starts from
+  /// the perturbed input.
+  std::optional<Contacts3> contacts;
   double build_seconds = 0.0;         ///< total over all rebuilds
   double search_seconds = 0.0;        ///< total over all searches
 };

@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -210,7 +212,8 @@ TEST_F(Cli3Test, EveryBadInputClassExitsWithTwoAndNamesTheDefect) {
     SCOPED_TRACE(c.file);
     write(c.file, c.content);
     for (const char* command : {"check", "cells", "immersions"}) {
-      const Outcome r = run(std::string(command) + " " + c.file);
+      // --strict: exact contacts are defects too (by default they are resolved, see below).
+      const Outcome r = run(std::string(command) + " " + c.file + " --strict");
       EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
       EXPECT_CONTAINS(r.output, "invalid input '" + c.file + "'");
       for (const std::string& piece : c.expected) EXPECT_CONTAINS(r.output, piece);
@@ -226,7 +229,7 @@ TEST_F(Cli3Test, DefectsGoIntoTheJsonReportWithTriangleIds) {
         imm::dim3::merge(box({0, 0, 0}, {1, 1, 1}), box({0.25, 0.375, 1}, {1.5, 1.5, 2})));
   for (const char* command : {"cells", "immersions"}) {
     SCOPED_TRACE(command);
-    const Outcome r = run(std::string(command) + " coplanar.obj --json report.json");
+    const Outcome r = run(std::string(command) + " coplanar.obj --json report.json --strict");
     EXPECT_EQ(r.code, 2) << r.output;
     const JsonValue j = read_json("report.json");
     EXPECT_EQ(j["status"].get<std::string>(), "invalid-input");
@@ -239,6 +242,31 @@ TEST_F(Cli3Test, DefectsGoIntoTheJsonReportWithTriangleIds) {
     }
     EXPECT_TRUE(coplanar);
   }
+}
+
+// ---- exact contacts: resolved by default, listed by check, refused by --strict --------------
+
+TEST_F(Cli3Test, ExactContactsAreResolvedWithANote) {
+  const Surface a = box({0, 0, 0}, {1, 1, 1});
+  write("vertex_on_face.obj", imm::dim3::format_obj(imm::dim3::merge(a, octahedron({1.375, 0.5, 0.5}, 0.375))));
+  const Outcome r = run("immersions vertex_on_face.obj --json report.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_CONTAINS(r.output, "1 exact contact (1 touching), resolved by perturbing the input by at most");
+  const JsonValue j = read_json("report.json");
+  EXPECT_TRUE(j["input"]["contacts"]["resolved"].get<bool>());
+  EXPECT_EQ(j["input"]["contacts"]["counts"]["touching"].get<long>(), 1);
+  EXPECT_LE(j["input"]["contacts"]["max_displacement"].get<double>(), std::ldexp(1.0, -30) * 2);
+  EXPECT_EQ(j["count"].get<long>(), 1);
+  // check lists each contact with its ids (and the input is valid).
+  const Outcome c = run("check vertex_on_face.obj");
+  ASSERT_EQ(c.code, 0) << c.output;
+  EXPECT_CONTAINS(c.output, "vertex 8 (1, 0.5, 0.5)");
+  EXPECT_CONTAINS(c.output, "lies on triangle 10");
+  // Two cubes sharing a face (coincident vertices): two solids, meshed apart.
+  write("shared_face.obj", imm::dim3::format_obj(imm::dim3::merge(a, box({1, 0, 0}, {2, 1, 1}))));
+  const Outcome m = run("mesh shared_face.obj --resolution 4 -o shared.mesh --embedding shared.emb");
+  ASSERT_EQ(m.code, 0) << m.output;
+  EXPECT_CONTAINS(m.output, "duplicate-vertex");
 }
 
 // ---- valid input and verdicts --------------------------------------------------------------
@@ -712,32 +740,49 @@ TEST_F(Cli3RealTest, EmbeddedAndOverlappingControlsHaveOneImmersion) {
 TEST_F(Cli3RealTest, DegenerateRealMeshesGetAVerdictNamingTheDefect) {
   struct Case {
     const char* name;
-    int code;
+    int code;         ///< by default: exact contacts resolved, local folds exit 3
     std::vector<std::string> expected;
+    int strict_code;  ///< with --strict: exact contacts are defects (exit 2)
+    std::vector<std::string> strict_expected;
   };
   const std::vector<Case> cases = {
-      // SOURCES.md: "3 coplanar-overlapping adjacent pairs", a degenerate coplanar fold.
-      {"cube_with_fold.ply", 2, {"coplanar-overlap", "coplanar"}},
-      // SOURCES.md: "1 duplicated vertex position" (and a sliver fold at face 5423). Two used
-      // vertices at one point make the surface touch itself there: non-generic, so exit 2 with
-      // both vertex ids, before the fold could be reported as an inversion.
-      {"cow.off", 2, {"duplicate-vertex", "vertices 621, 2761"}},
-      // SOURCES.md: 39 shells, "2 duplicated positions", coincident and touching shells: the
-      // two touching points are named.
-      {"Offset1.obj", 2, {"duplicate-vertex", "vertices 1032, 1034", "vertices 1039, 1040"}},
-      // SOURCES.md: inconsistent (w down to -3), genus 131. Before any winding number exists,
-      // its intersection curves run through input vertices (non-generic): exit 2, not 3.
-      {"yeahright_controlmesh_boolean_proxy.obj",
-       2,
-       {"intersection curve passes through an input vertex"}},
+      // SOURCES.md: "3 coplanar-overlapping adjacent pairs", a degenerate coplanar fold: a
+      // perturbation opens it into a thin flap of the solid.
+      {"cube_with_fold.ply", 0, {"11 exact contacts (11 coplanar-overlap), resolved"},
+       2, {"invalid input", "coplanar-overlap", "coplanar"}},
+      // SOURCES.md: "1 duplicated vertex position" and a sliver fold at face 5423: the duplicate is
+      // a contact, the sliver's star crosses itself (a local fold, exit 3 naming its vertices).
+      {"cow.off", 3, {"local-fold", "vertex 2721", "triangle 5423"},
+       2, {"invalid input", "duplicate-vertex", "vertices 621, 2761"}},
+      // SOURCES.md: 39 shells, "2 duplicated positions", coincident and touching shells.
+      {"Offset1.obj", 3, {"local-fold", "local fold, not immersible"},
+       2, {"invalid input", "duplicate-vertex", "vertices 1032, 1034", "vertices 1039, 1040"}},
+      // SOURCES.md: inconsistent (w down to -3), genus 131: stars that cross themselves, with
+      // or without --strict.
+      {"yeahright_controlmesh_boolean_proxy.obj", 3, {"local-fold", "vertex 14 "},
+       3, {"local-fold", "vertex 14 "}},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     const Outcome r = run("immersions " + file(c.name));
     EXPECT_EQ(r.code, c.code) << r.output;
-    EXPECT_CONTAINS(r.output, "invalid input");
     for (const std::string& piece : c.expected) EXPECT_CONTAINS(r.output, piece);
+    const Outcome strict = run("immersions " + file(c.name) + " --strict");
+    EXPECT_EQ(strict.code, c.strict_code) << strict.output;
+    for (const std::string& piece : c.strict_expected) EXPECT_CONTAINS(strict.output, piece);
   }
+}
+
+// The paper's own input: edges of the two loops meet exactly (408 contacts). Resolved, it has
+// one immersion and meshes on its own background (the reference reports 8,171 tets).
+TEST_F(Cli3RealTest, DoubleLoopWithCubeIsResolvedAndMeshed) {
+  const Outcome r = run("mesh " + file("doubleLoopWithCube.obj") + " --background " +
+                        file("../tet/doubleLoopWithCube.veg") + " -o dl.mesh --embedding dl.emb --json dl.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_CONTAINS(r.output, "408 exact contacts (408 touching), resolved");
+  const JsonValue j = read_json("dl.json");
+  EXPECT_EQ(j["input"]["contacts"]["counts"]["touching"].get<long>(), 408);
+  EXPECT_EQ(run("immersions " + file("doubleLoopWithCube.obj") + " --strict").code, 2);
 }
 
 }  // namespace

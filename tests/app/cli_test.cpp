@@ -165,7 +165,8 @@ TEST_F(CliTest, EveryBadInputClassExitsWithTwoAndNamesTheDefect) {
     SCOPED_TRACE(c.file);
     write(c.file, c.content);
     for (const char* command : {"check", "immersions"}) {
-      const Outcome r = run(std::string(command) + " " + c.file);
+      // --strict: exact contacts are defects too (by default they are resolved, see below).
+      const Outcome r = run(std::string(command) + " " + c.file + " --strict");
       EXPECT_EQ(r.code, 2) << r.output;
       EXPECT_CONTAINS(r.output, "invalid input");
       for (const std::string& piece : c.expected) EXPECT_CONTAINS(r.output, piece);
@@ -179,7 +180,7 @@ TEST_F(CliTest, EveryBadInputClassExitsWithTwoAndNamesTheDefect) {
 TEST_F(CliTest, EveryDefectIsListedAndTheJsonSaysSo) {
   // Two triangles hanging from the square at vertices on its bottom and top sides: two defects.
   write("two.txt", "0 0\n10 0\n10 10\n0 10\n\n5 0\n7 -5\n3 -5\n\n5 10\n3 15\n7 15\n");
-  const Outcome r = run("cells two.txt --json two.json");
+  const Outcome r = run("cells two.txt --json two.json --strict");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_CONTAINS(r.output, "2 defects");
   EXPECT_CONTAINS(r.output, "vertex 4 at (5, 0) lies on segment 0");
@@ -188,6 +189,23 @@ TEST_F(CliTest, EveryDefectIsListedAndTheJsonSaysSo) {
   EXPECT_EQ(json["status"], "invalid-input");
   ASSERT_EQ(json["defects"].size(), 2u);
   for (const auto& defect : json["defects"]) EXPECT_EQ(defect["kind"], "touching") << defect;
+}
+
+// By default the same contacts are resolved by a tiny perturbation: a note, the counts per kind
+// in the JSON, the two triangles kept apart from the square (3 cells: none of them merged).
+TEST_F(CliTest, ExactContactsAreResolvedWithANote) {
+  write("two.txt", "0 0\n10 0\n10 10\n0 10\n\n5 0\n3 -5\n7 -5\n\n5 10\n7 15\n3 15\n");
+  const Outcome r = run("cells two.txt --json two.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_CONTAINS(r.output, "2 exact contacts (2 touching), resolved by perturbing the input by at most");
+  const std::string json = read("two.json");
+  EXPECT_CONTAINS(json, "\"resolved\": true");
+  EXPECT_CONTAINS(json, "\"touching\": 2");
+  const Outcome c = run("check two.txt");
+  ASSERT_EQ(c.code, 0) << c.output;
+  EXPECT_CONTAINS(c.output, "vertex 4 at (5, 0) lies on segment 0");
+  EXPECT_CONTAINS(c.output, "3 cells");
+  EXPECT_EQ(run("mesh two.txt -o two.mesh --embedding two.emb").code, 0);
 }
 
 // ---- verdicts: exit 3 ----------------------------------------------------------------------------
