@@ -76,7 +76,7 @@ struct CurveGeneratorSummary {
 };
 std::vector<CurveGeneratorSummary> curve_generators();
 
-/// Same as generate(); the name used by core/cli.cpp.
+/// Same as generate(); the name used by app/cli.cpp.
 GenerateResult generate_curves(const std::string& name, const std::vector<std::string>& arguments);
 
 // ---- the paper's figures -------------------------------------------------------------------
