@@ -60,29 +60,53 @@ class Reliability2 : public testing::Test {
     write(out, os.str());
   }
 
-  /// "N cells, M patches, ..." (the first line of `immerse cells`), for comparisons.
+  /// "8 regions, 7 cells, 12 patches, 6 arcs ..." (the second line of `immerse cells`) and the
+  /// winding column of the cell table, for comparisons.
   [[nodiscard]] std::string counts(const std::string& input) const {
     const RunOutcome r = run("cells " + input);
     EXPECT_EQ(r.code, 0) << r.output;
-    return r.output.substr(0, r.output.find('\n'));
+    std::istringstream lines(r.output);
+    std::string line, out;
+    std::getline(lines, line);  // names the file
+    std::getline(lines, out);
+    std::getline(lines, line);  // the table's header
+    while (std::getline(lines, line)) {
+      std::istringstream fields(line);
+      std::string cell, region, winding;
+      if (fields >> cell >> region >> winding) out += " " + winding;
+    }
+    return out;
   }
   fs::path dir_;
 };
 
-// Defect 1: SIGSEGV inside the arrangement sweep at large coordinates.
-TEST_F(Reliability2, LargeCoordinatesAreExact) {
+// Defect 1: SIGSEGV inside the arrangement sweep at large coordinates (CGAL's interval filters
+// overflow beyond about 1e102). Now: exact up to the documented range 1e75, exit 2 beyond it.
+TEST_F(Reliability2, LargeCoordinatesAreExactOrRefusedWithTheRange) {
   write("a.txt", "0 0\n1e155 0\n0 1e155\n");
-  for (const char* command : {"check", "cells", "immersions"}) {
-    const RunOutcome r = run(std::string(command) + " a.txt");
-    EXPECT_EQ(r.code, 0) << command << "\n" << r.output;
+  for (const char* command : {"check", "cells", "immersions", "mesh"}) {
+    const RunOutcome r = run(std::string(command) + " a.txt" + (command[0] == 'm' ? " -o a.mesh" : ""));
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
+    EXPECT_CONTAINS(r.output, "vertex 1 (1e+155, 0) lies beyond the coordinate range of 2D inputs, |x|, |y| <= 1e75");
   }
-  // Two crossing squares at 1e110: the same complex as at unit scale.
+  EXPECT_FALSE(fs::exists(dir_ / "a.mesh"));
+  // Two crossing squares near the limit: the same complex as at unit scale.
   write("two.txt", "0 0\n4 0\n4 2\n0 2\n\n1 -1\n3 -1\n3 3\n1 3\n");
-  transform_curve("two.txt", 1e110, 0, "two_big.txt");
+  transform_curve("two.txt", 1e74, 0, "two_big.txt");
   EXPECT_EQ(counts("two_big.txt"), counts("two.txt"));
-  // The same near the top of the double range.
-  transform_curve("two.txt", 1e300, 0, "two_huge.txt");
-  EXPECT_EQ(counts("two_huge.txt"), counts("two.txt"));
+  for (double scale : {1e110, 1e300}) {
+    transform_curve("two.txt", scale, 0, "two_huge.txt");
+    const RunOutcome r = run("cells two_huge.txt");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_CONTAINS(r.output, "|x|, |y| <= 1e75");
+  }
+  // Many vertices beyond: ten listed, then one count.
+  std::string many;
+  for (int i = 0; i < 30; ++i) many += std::to_string(i) + "e80 " + std::to_string(i % 2) + "\n";
+  write("many.txt", many);
+  const RunOutcome r = run("check many.txt");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_CONTAINS(r.output, "and 19 more vertices beyond 1e75");
 }
 
 TEST_F(Reliability2, ScaledAndTranslatedFig6KeepsItsImmersions) {
@@ -93,9 +117,11 @@ TEST_F(Reliability2, ScaledAndTranslatedFig6KeepsItsImmersions) {
   EXPECT_CONTAINS(base.output, "2 immersions");
   // Scale by 2^k (exact) up to the exponent limits, by 1e120 (issue 13), translate by 1e15.
   std::vector<std::pair<double, double>> motions;
-  for (int k : {-1000, -700, -300, -60, 60, 300, 700, 1000}) motions.push_back({std::ldexp(1.0, k), 0.0});
-  motions.push_back({1e120, 0.0});
+  // Down to the bottom of the exponent range: no limit (intervals that underflow stay
+  // conservative); up to the documented range 1e75 (2^240 ~ 1.8e72).
+  for (int k : {-1000, -700, -300, -60, 60, 240}) motions.push_back({std::ldexp(1.0, k), 0.0});
   motions.push_back({1.0, 1e15});
+  motions.push_back({1.0, -1e15});
   for (const auto& [scale, shift] : motions) {
     SCOPED_TRACE(testing::Message() << "scale " << scale << " shift " << shift);
     transform_curve("fig6.txt", scale, shift, "moved.txt");
@@ -104,18 +130,25 @@ TEST_F(Reliability2, ScaledAndTranslatedFig6KeepsItsImmersions) {
     EXPECT_EQ(r.code, 0) << r.output;
     EXPECT_CONTAINS(r.output, "2 immersions");
   }
+  // Beyond the range (1e120 crashed, issue 13): a clear exit 2.
+  for (double scale : {std::ldexp(1.0, 300), 1e120, std::ldexp(1.0, 1000)}) {
+    transform_curve("fig6.txt", scale, 0, "moved.txt");
+    const RunOutcome r = run("immersions moved.txt --all");
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_CONTAINS(r.output, "beyond the coordinate range");
+  }
 }
 
 TEST_F(Reliability2, MeshingFarFromUnitScaleIsDoneOrRefusedWithTheLimit) {
   ASSERT_EQ(run("generate fig6 -o fig6.txt").code, 0);
-  for (int k : {-1000, -300, 300, 1000}) {
+  for (int k : {-1000, -100, 100, 240}) {
     SCOPED_TRACE(testing::Message() << "scale 2^" << k);
     transform_curve("fig6.txt", std::ldexp(1.0, k), 0, "moved.txt");
     const RunOutcome r = run("mesh moved.txt --resolution 8 -o m.mesh --embedding m.emb");
-    if (std::abs(k) <= 200) {
+    if (k >= -100) {
       EXPECT_EQ(r.code, 0) << r.output;
     } else {
-      EXPECT_EQ(r.code, 2) << r.output;  // README: generating a background has coordinate limits
+      EXPECT_EQ(r.code, 2) << r.output;  // README: a generated background needs a diagonal >= 1e-60
       EXPECT_CONTAINS(r.output, "cannot generate a background mesh");
       EXPECT_FALSE(fs::exists(dir_ / "m.mesh"));
     }
@@ -201,6 +234,58 @@ TEST_F(Reliability2, BinaryInputGivesAShortPrintableMessage) {
   for (char c : r.output)
     EXPECT_TRUE(c == '\n' || std::isprint(static_cast<unsigned char>(c))) << "byte " << int(static_cast<unsigned char>(c));
   EXPECT_CONTAINS(r.output, "more unreadable lines");
+}
+
+// Defect 7: --time-limit stopped the search, then SVGs were written for minutes (about 15 GB).
+TEST_F(Reliability2, OutputsAreBoundedBeforeTheyAreBuilt) {
+  ASSERT_EQ(run("generate fig6 -o fig6.txt").code, 0);
+  // Two drawings of some 10 KB each do not fit 1,000 bytes: refused before the first one.
+  RunOutcome r = run("immersions fig6.txt --all --svg drawings --max-output 1000");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_CONTAINS(r.output, "2 SVG drawings would take about");
+  EXPECT_CONTAINS(r.output, "--max-output");
+  EXPECT_FALSE(fs::exists(dir_ / "drawings" / "immersion_0.svg"));
+  r = run("immersions fig6.txt --all --json all.json --max-output 1000");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "all.json"));
+  // Within the budget: written.
+  r = run("immersions fig6.txt --all --svg drawings --json all.json --max-output 100000000");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir_ / "drawings" / "immersion_1.svg"));
+  // The time limit bounds the whole command: once it has passed, nothing more is written.
+  r = run("immersions fig6.txt --all --time-limit 1e-9 --json late.json");
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_CONTAINS(r.output, "time limit");
+  EXPECT_FALSE(fs::exists(dir_ / "late.json"));
+}
+
+TEST_F(Reliability2, ManyImmersionsAreRefusedNotWrittenForMinutes) {
+  ASSERT_EQ(run("generate doodle-chain 16 -o chain.txt").code, 0);
+  const RunOutcome r = run("immersions chain.txt --all --time-limit 2 --svg drawings");
+  EXPECT_TRUE(r.code == 1 || r.code == 3) << r.output;
+  EXPECT_CONTAINS(r.output, "not written");
+  EXPECT_FALSE(fs::exists(dir_ / "drawings" / "immersion_0.svg"));
+}
+
+// Defect 9: a background far larger than the input lost the embedding's precision silently.
+TEST_F(Reliability2, EmbeddingPrecisionIsMeasuredAndWarned) {
+  write("square.txt", "0 0\n1 0\n1 1\n0 1\n");
+  const auto background = [&](double size) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "MeshVersionFormatted 2\nDimension 2\nVertices\n3\n" << -size << ' ' << -size << " 0\n"
+       << 3 * size << ' ' << -size << " 0\n" << -size << ' ' << 3 * size << " 0\nTriangles\n1\n1 2 3 0\nEnd\n";
+    return os.str();
+  };
+  write("near.mesh", background(2));
+  write("far.mesh", background(1e10));
+  RunOutcome r = run("mesh square.txt --background near.mesh -o a.mesh --json a.json");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("warning: the embedding"), std::string::npos) << r.output;
+  r = run("mesh square.txt --background far.mesh -o b.mesh --json b.json");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_CONTAINS(r.output, "warning: the embedding reproduces the input vertices only within");
+  EXPECT_CONTAINS(read("b.json"), "\"embedding_error\"");
 }
 
 }  // namespace
