@@ -35,6 +35,7 @@
 #include "core/atomic_file.h"
 #include "app/cli_common.h"
 #include "core/diagnostics.h"
+#include "core/printable.h"
 #include "core/graph_search.h"
 #include "dim2/complex2.h"
 #include "dim2/curves.h"
@@ -303,9 +304,13 @@ std::string b_patch_list(std::span<const BPatch> b_patches) {
   return patches;
 }
 
+/// At most this many defect lines on stderr, then "... and N more" (all of them are in --json):
+/// the fuzzer's 20 stacked copies of one curve printed 140 KB (issue 13).
+constexpr std::size_t kMaxDefectLines = 50;
+
 void print_defects(Session& s, const std::string& path, const ValidationReport& report) {
   s.err() << "immerse: invalid input '" << path << "': " << plural(report.total(), "defect") << '\n'
-          << report.summary(std::numeric_limits<std::size_t>::max());
+          << report.summary(kMaxDefectLines);
   s.set_counts("invalid input (" + plural(report.total(), "defect") + ")");
 }
 
@@ -374,7 +379,7 @@ Json defects_json(const ValidationReport& report, const std::string& facet_key) 
     Json& j = list.emplace_back(Json::object());
     j["kind"] = to_string(d.kind);
     j["stage"] = d.stage;
-    j["message"] = d.message;
+    j["message"] = printable(d.message);  // bytes quoted from a broken file are not JSON text
     Json& facets = (j[facet_key] = Json::array());
     for (long f : d.facets) facets.emplace_back(f);
     Json& vertices = (j["vertices"] = Json::array());
@@ -899,7 +904,7 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
       s.timed("mesh", [&] { return dim2::mesh_immersion(*p.complex, r.immersions[k], mesh_options); });
   if (!m.report.ok()) {
     s.err() << "immerse: cannot mesh '" << p.path << "': " << plural(m.report.defects.size(), "defect") << '\n'
-            << m.report.summary(std::numeric_limits<std::size_t>::max());
+            << m.report.summary(kMaxDefectLines);
     s.set_counts("meshing failed (" + plural(m.report.defects.size(), "defect") + ")");
     if (auto json_path = cl.value("--json")) {
       Json j = Json::object();

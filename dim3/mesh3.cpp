@@ -253,14 +253,13 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
       const EmbeddedVertex3& e = result.embedding[v];
       if (e.element < 0) continue;
       const Tet& tet = result.mesh.tets[static_cast<std::size_t>(e.element)];
-      double squared = 0.0;
+      Point3 error{};
       for (int d = 0; d < 3; ++d) {
         double x = 0.0;
         for (int k = 0; k < 4; ++k) x += e.weights[k] * result.mesh.vertices[static_cast<std::size_t>(tet[k])][d];
-        const double error = x - (complex.surface.vertices[v][d] + result.stats.input_shift[d]);
-        squared += error * error;
+        error[d] = x - (complex.surface.vertices[v][d] + result.stats.input_shift[d]);
       }
-      worst = std::max(worst, std::sqrt(squared));
+      worst = std::max(worst, std::hypot(error[0], error[1], error[2]));  // no overflow at 1e300
     }
     const double size = std::hypot(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]);
     result.stats.embedding_error = size > 0 ? worst / size : worst;

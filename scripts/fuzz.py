@@ -134,7 +134,7 @@ def command_for(rng, path, background):
     if family == "cells":
         return ["cells", path, "--json", "cells.json"], []
     if family == "immersions":
-        return ["immersions", path, "--all", "--max", "4", "--time-limit", "5", "--json", "imm.json"], []
+        return ["immersions", path, "--max", "4", "--time-limit", "5", "--json", "imm.json"], []
     args = ["mesh", path, "--time-limit", "5", "-o", "out.mesh", "--embedding", "out.emb", "--json", "mesh.json"]
     if background and rng.random() < 0.2:
         args += ["--background", background]
@@ -191,7 +191,7 @@ def run_one(immerse, workdir, name, data, args, outputs, timeout):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    ap.add_argument("--immerse", default=os.path.join(root, "build", "immerse"))
+    ap.add_argument("--immerse", default=os.path.join(root, "build", "app", "immerse"))
     ap.add_argument("--corpus", default=os.path.join(root, "tests", "fuzz", "corpus"))
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--runs", type=int, default=200)
@@ -200,6 +200,7 @@ def main():
     ap.add_argument("--crashes", default=None, help="where failing inputs are saved (default: none saved)")
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args()
+    a.immerse = os.path.abspath(a.immerse)
     if not os.access(a.immerse, os.X_OK):
         print("fuzz: no immerse binary at %s" % a.immerse, file=sys.stderr)
         return 2

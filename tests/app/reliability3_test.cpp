@@ -63,12 +63,23 @@ TEST_F(Reliability3, LargeCoordinatesDoNotOverflowTheVolumes) {
       const RunOutcome r = run(std::string(command) + " big.obj");
       EXPECT_EQ(r.code, 0) << command << "\n" << r.output;
     }
-    const RunOutcome m = run("mesh big.obj --resolution 3 -o big.mesh --embedding big.emb");
+    const RunOutcome m = run("mesh big.obj --resolution 3 -o big.mesh --embedding big.emb --json big.json");
     EXPECT_TRUE(m.code == 0 || m.code == 2) << m.output;
+    if (m.code == 0) {  // the embedding's precision is measured, not lost to an overflow
+      EXPECT_CONTAINS(read("big.json"), "\"embedding_error\": ");
+      EXPECT_EQ(read("big.json").find("\"embedding_error\": null"), std::string::npos) << read("big.json");
+    }
     if (m.code == 2) {
       EXPECT_CONTAINS(m.output, "coordinate");
       EXPECT_FALSE(fs::exists(dir_ / "big.mesh"));
     }
+  }
+  // Beyond the documented range (the fuzzer's -1e308 stopped the program with SIGFPE): exit 2.
+  write("beyond.obj", tetra_obj({{{0, 0, 0}, {1, 0, 0}, {0, -1e308, 0}, {0, 0, 1}}}));
+  for (const char* command : {"check", "immersions", "mesh"}) {
+    const RunOutcome r = run(std::string(command) + " beyond.obj" + (command[0] == 'm' ? " -o b.mesh" : ""));
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
+    EXPECT_CONTAINS(r.output, "|x|, |y|, |z| <= 1e300");
   }
   // Tiny coordinates: the same.
   const double t = 1e-300;
@@ -188,6 +199,21 @@ TEST_F(Reliability3, BinaryJunkGivesAShortPrintableMessage) {
       EXPECT_TRUE(c == '\n' || std::isprint(static_cast<unsigned char>(c))) << name << ": byte "
                                                                              << int(static_cast<unsigned char>(c));
   }
+}
+
+// Found by scripts/fuzz.py (seed 1): a PLY element name with a byte that is not UTF-8 made the
+// JSON report impossible to write (exit 1 from the JSON library).
+TEST_F(Reliability3, NonTextBytesInMessagesAreEscaped) {
+  std::string ply = imm::test::read_file(fs::path(IMM_TEST_DATA_DIR).parent_path() / "fuzz" / "corpus" / "tetra_binary.ply");
+  ASSERT_FALSE(ply.empty());
+  ply[ply.find("vertex") + 1] = static_cast<char>(0xe9);  // "v\xe9rtex"
+  ply.resize(ply.find("end_header\n") + 11 + 20);          // and the file ends in its records
+  write("bad.ply", ply);
+  const RunOutcome r = run("mesh bad.ply -o bad.mesh --json bad.json");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_CONTAINS(r.output, "'v?rtex'");
+  EXPECT_CONTAINS(read("bad.json"), "invalid-input");
+  EXPECT_FALSE(fs::exists(dir_ / "bad.mesh"));
 }
 
 // Defect 4: `-o FIFO` turned the FIFO into a file; `-o link.mesh` replaced the link.
