@@ -36,6 +36,7 @@
 #include "app/cli_common.h"
 #include "app/cli_deform.h"
 #include "core/diagnostics.h"
+#include "core/printable.h"
 #include "core/graph_search.h"
 #include "dim2/complex2.h"
 #include "dim2/curves.h"
@@ -104,7 +105,8 @@ std::vector<OptionSpec> search_option_specs() {
       {"--all", ValueKind::Flag, "", "enumerate every immersion (pairwise non-isomorphic)"},
       {"--max", ValueKind::Integer, "N", "stop after N immersions (default 1)", 1},
       {"--max-states", ValueKind::Integer, "N", "search budget in explored states (default 50000000)", 1},
-      {"--time-limit", ValueKind::Real, "S", "search budget in seconds (default none)"},
+      {"--time-limit", ValueKind::Real, "S", "search budget in seconds (default none); also bounds the writing of outputs"},
+      {"--max-output", ValueKind::Integer, "BYTES", "output budget: bytes in all files written (default 4 GiB)", 1},
   };
 }
 
@@ -233,6 +235,7 @@ std::vector<CommandSpec> make_command_specs() {
        "counts (background, cut and output elements, vertices, copies per cell) and timings"},
       {"--max-states", ValueKind::Integer, "N", "search budget in explored states (as for 'immerse immersions')", 1},
       {"--time-limit", ValueKind::Real, "S", "search budget in seconds (as for 'immerse immersions')"},
+      {"--max-output", ValueKind::Integer, "BYTES", "output budget: bytes in all files written (default 4 GiB)", 1},
   };
   mesh.options.push_back({"--strict", ValueKind::Flag, "",
        "refuse exact contacts (a vertex on a segment or triangle, touching, coplanar or collinear overlaps) with "
@@ -326,9 +329,13 @@ std::string b_patch_list(std::span<const BPatch> b_patches) {
   return patches;
 }
 
+/// At most this many defect lines on stderr, then "... and N more" (all of them are in --json):
+/// the fuzzer's 20 stacked copies of one curve printed 140 KB (issue 13).
+constexpr std::size_t kMaxDefectLines = 50;
+
 void print_defects(Session& s, const std::string& path, const ValidationReport& report) {
   s.err() << "immerse: invalid input '" << path << "': " << plural(report.total(), "defect") << '\n'
-          << report.summary(std::numeric_limits<std::size_t>::max());
+          << report.summary(kMaxDefectLines);
   s.set_counts("invalid input (" + plural(report.total(), "defect") + ")");
 }
 
@@ -397,7 +404,7 @@ Json defects_json(const ValidationReport& report, const std::string& facet_key) 
     Json& j = list.emplace_back(Json::object());
     j["kind"] = to_string(d.kind);
     j["stage"] = d.stage;
-    j["message"] = d.message;
+    j["message"] = printable(d.message);  // bytes quoted from a broken file are not JSON text
     Json& facets = (j[facet_key] = Json::array());
     for (long f : d.facets) facets.emplace_back(f);
     Json& vertices = (j["vertices"] = Json::array());
@@ -788,6 +795,12 @@ std::string parse_search_request(const CommandLine& cl, SearchRequest& request) 
   return {};
 }
 
+/// --max-output and --time-limit bound every write of the command (issue 13).
+void bound_outputs(Session& s, const CommandLine& cl, const SearchRequest& request) {
+  const auto max = cl.integer("--max-output");
+  s.bound_outputs(max ? static_cast<std::uint64_t>(*max) : kDefaultMaxOutput, request.time_limit);
+}
+
 void print_search_result(Session& s, const Prepared& p, const SearchResult& r, const SearchRequest& request) {
   if (r.status != ImmersionStatus::Immersible) {
     print_no_immersion(s, p.path, r);
@@ -799,6 +812,15 @@ void print_search_result(Session& s, const Prepared& p, const SearchResult& r, c
 /// Writes DIR/immersion_K.svg for every immersion. @return false on a write failure.
 bool write_immersion_svgs(Session& s, const Prepared& p, const SearchResult& r, const std::string& dir) {
   for (std::size_t k = 0; k < r.immersions.size(); ++k) {
+    // Refused before the first drawing when all of them would not fit the output budget (65,536
+    // drawings of a doodle chain were about 15 GB); the time limit is checked at every file.
+    if (k == 0) {
+      const std::size_t first = dim2::format_immersion_svg(*p.complex, r.immersions[0], {}).size();
+      if (!s.can_write(static_cast<std::uint64_t>(first) * r.immersions.size(),
+                       std::to_string(r.immersions.size()) + " SVG drawings")) {
+        return false;
+      }
+    }
     dim2::SvgOptions options;
     options.title = "immersion " + std::to_string(k) + " of " + std::to_string(r.immersions.size()) +
                     (r.complete ? "" : "+") + ": " + std::filesystem::path(p.path).filename().string();
@@ -816,6 +838,7 @@ int command_immersions(Session& s, const CommandLine& cl) {
   if (std::string error = parse_search_request(cl, request); !error.empty()) {
     return usage_error(s.env(), "immersions", error);
   }
+  bound_outputs(s, cl, request);
   if (is_surface_file(cl.positional[0])) {
     if (cl.has("--svg")) return usage_error(s.env(), "immersions", "--svg draws 2D immersions only");
     s.enable_summary();
@@ -832,10 +855,21 @@ int command_immersions(Session& s, const CommandLine& cl) {
   const SearchResult r = run_search(s, *p.complex, request);
   s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
   print_search_result(s, p, r, request);
-  if (json_path && !s.write(*json_path, search_json(p, r, s).dump(2) + "\n", "the immersions (JSON)")) {
-    return kExitInternalError;
+  // The JSON of every immersion is estimated from the first before it is built (a chain of 16
+  // doodles made 6.1 GB of memory for a 657 MB file).
+  const bool json_fits = !json_path || r.immersions.empty() ||
+                         s.can_write(static_cast<std::uint64_t>(immersion_json(r.immersions[0], 0).dump(2).size()) *
+                                         r.immersions.size(),
+                                     "the immersions (JSON)");
+  const auto failed = [&] { return s.time_limit_reached() ? kExitNotImmersible : kExitInternalError; };
+  if (json_path && (!json_fits || !s.write(*json_path, search_json(p, r, s).dump(2) + "\n", "the immersions (JSON)"))) {
+    print_written(s);
+    return failed();
   }
-  if (auto dir = cl.value("--svg"); dir && !write_immersion_svgs(s, p, r, *dir)) return kExitInternalError;
+  if (auto dir = cl.value("--svg"); dir && !write_immersion_svgs(s, p, r, *dir)) {
+    print_written(s);
+    return failed();
+  }
   print_written(s);
   return r.status == ImmersionStatus::Immersible ? kExitOk : kExitNotImmersible;
 }
@@ -859,6 +893,7 @@ Json mesh_json(const Prepared& p, const SearchResult& r, std::size_t k, const di
   c["output_triangles"] = m.stats.output_triangles;
   c["output_vertices"] = m.stats.output_vertices;
   c["embedded_vertices"] = m.embedding.size();
+  c["embedding_error"] = m.stats.embedding_error;
   c["graph_nodes"] = r.immersions[k].layout.node_count();
   Json& per_cell = (c["copies_per_cell"] = Json::array());
   for (std::size_t n : m.stats.copies_per_cell) per_cell.emplace_back(n);
@@ -885,7 +920,7 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
       s.timed("mesh", [&] { return dim2::mesh_immersion(*p.complex, r.immersions[k], mesh_options); });
   if (!m.report.ok()) {
     s.err() << "immerse: cannot mesh '" << p.path << "': " << plural(m.report.defects.size(), "defect") << '\n'
-            << m.report.summary(std::numeric_limits<std::size_t>::max());
+            << m.report.summary(kMaxDefectLines);
     s.set_counts("meshing failed (" + plural(m.report.defects.size(), "defect") + ")");
     if (auto json_path = cl.value("--json")) {
       Json j = Json::object();
@@ -904,6 +939,7 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
           << plural(m.stats.output_vertices, "vertex", "vertices") << " (background "
           << plural(m.stats.background_triangles, "triangle") << ", " << m.stats.cut_triangles
           << " cut by the input)\n";
+  warn_embedding_error(s, m.stats.embedding_error);
   if (auto path = cl.value("-o"); path && !s.write(*path, dim2::format_medit_2d(m.mesh), "the mesh (Medit, reference = graph node)")) {
     return kExitInternalError;
   }
@@ -945,6 +981,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
   }
   SearchRequest request;
   if (std::string error = parse_search_request(cl, request); !error.empty()) return usage_error(env, "mesh", error);
+  bound_outputs(s, cl, request);
   const bool all = cl.has("--all");
   request.max_immersions = all ? 0 : k + 1;
   if (is_surface_file(cl.positional[0])) {

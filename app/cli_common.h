@@ -9,6 +9,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/output_budget.h"
 #include "core/cell_complex.h"
 #include "app/cli.h"
 #include "app/command_line.h"
@@ -40,6 +42,9 @@ namespace imm::cli {
 using Json = nlohmann::ordered_json;
 
 using Clock = std::chrono::steady_clock;
+
+/// The default output budget of one command (--max-output): 4 GiB in all files.
+inline constexpr std::uint64_t kDefaultMaxOutput = std::uint64_t{4} << 30;
 
 inline double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -135,6 +140,18 @@ class Session {
           return false;
         }
       }
+      // The whole command is bounded (issue 13): nothing is written after the --time-limit
+      // deadline, nor beyond the output budget (--max-output).
+      if (budget_.expired()) {
+        err() << "immerse: the time limit was reached; '" << path << "' was not written\n";
+        time_limit_reached_ = true;
+        return false;
+      }
+      if (!budget_.charge(content.size())) {
+        err() << "immerse: '" << path << "' (" << content.size() << " bytes) would pass the output budget of "
+              << budget_.max_bytes() << " bytes (" << budget_.used() << " already written; --max-output); not written\n";
+        return false;
+      }
       const WriteStatus status = write_file_atomic(path, content);
       if (!status.ok()) {
         err() << "immerse: " << status.error << '\n';
@@ -160,14 +177,51 @@ class Session {
     env_.err << os.str() << '\n';
   }
 
+  /// Bounds what the command writes: `max_bytes` in all, and nothing after `time_limit` seconds
+  /// from the start of the command (0: no deadline).
+  void bound_outputs(std::uint64_t max_bytes, double time_limit) {
+    std::optional<Clock::time_point> deadline;
+    if (time_limit > 0)
+      deadline = start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(time_limit));
+    budget_ = OutputBudget(max_bytes, deadline);
+  }
+  /// Whether `bytes` more would fit the output budget and the deadline has not passed; says why
+  /// not (naming `what`) when they would not. For outputs estimated before they are built.
+  bool can_write(std::uint64_t bytes, const std::string& what) {
+    if (budget_.expired()) {
+      err() << "immerse: the time limit was reached; " << what << " not written\n";
+      time_limit_reached_ = true;
+      return false;
+    }
+    if (budget_.fits(bytes)) return true;
+    err() << "immerse: " << what << " would take about " << bytes << " bytes, more than the output budget of "
+          << budget_.max_bytes() - budget_.used() << " bytes left (--max-output); not written\n";
+    return false;
+  }
+  /// Whether a write was refused because the --time-limit deadline had passed.
+  [[nodiscard]] bool time_limit_reached() const { return time_limit_reached_; }
+
  private:
   const CliEnvironment& env_;
+  Clock::time_point start_ = Clock::now();
+  OutputBudget budget_{kDefaultMaxOutput};
+  bool time_limit_reached_ = false;
   std::vector<std::pair<std::string, double>> stages_;
   std::string counts_;
   bool summary_ = false;
   bool strict_ = false;
   std::vector<std::pair<std::string, std::string>> written_;
 };
+
+/// DESIGN §4.6 promises that the .emb reproduces every input vertex within 1e-9 of the input's
+/// diagonal; the libraries measure it (MeshStats::embedding_error) and this says when it is not
+/// kept (a --background far larger than the input, issue 13).
+inline void warn_embedding_error(Session& s, double error) {
+  if (!(error > 1e-9)) return;
+  s.err() << "immerse: warning: the embedding reproduces the input vertices only within " << error
+          << " of the input's diagonal (the promise is 1e-9): the background mesh is much larger than the "
+             "input or far from it\n";
+}
 
 /// "wrote PATH  what" for every file written since index `from`.
 void print_written(Session& s, std::size_t from = 0);

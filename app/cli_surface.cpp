@@ -459,6 +459,8 @@ Json mesh3_json(const dim3::MeshResult3& m, std::size_t k, const Immersion& imme
   c["helper_tets_dropped"] = m.stats.helper_tets;
   c["generic_attempts"] = m.stats.attempts;
   c["embedded_vertices"] = m.embedding.size();
+  c["embedding_error"] = m.stats.embedding_error;
+  c["unused_vertices"] = m.stats.unused_vertices;
   c["graph_nodes"] = immersion.layout.node_count();
   Json& per_cell = (c["copies_per_cell"] = Json::array());
   for (std::size_t n : m.stats.copies_per_cell) per_cell.emplace_back(n);
@@ -558,6 +560,14 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
       s.err() << "immerse: note: the grid touched the input non-generically; it was shifted "
               << plural(static_cast<std::size_t>(m.stats.attempts - 1), "time") << '\n';
     }
+    if (!m.stats.unused_vertices.empty()) {
+      const std::size_t v = m.stats.unused_vertices.front();
+      s.err() << "immerse: note: " << plural(m.stats.unused_vertices.size(), "input vertex", "input vertices")
+              << " (vertex " << v << " " << dim3::format_point(p.surface.vertices[v])
+              << (m.stats.unused_vertices.size() > 1 ? ", ..." : "")
+              << ") used by no triangle: left out of the embedding (-1 in the .emb)\n";
+    }
+    warn_embedding_error(s, m.stats.embedding_error);
     s.out() << describe_input(p) << ": immersion " << i << " of " << r.immersions.size() << (r.complete ? "" : "+")
             << " meshed: " << plural(m.stats.output_tets, "tet") << ", " << plural(m.stats.output_vertices, "vertex", "vertices")
             << " (background " << plural(m.stats.background_tets, "tet") << ", " << m.stats.cut_tets

@@ -7,12 +7,15 @@
 #include <vector>
 
 #include "app/cli.h"
+#include "core/atomic_file.h"
 #include "core/diagnostics.h"
 
 int main(int argc, char** argv) {
   std::vector<std::string> args;
   for (int i = 1; i < argc; ++i) args.emplace_back(argv[i]);
   const imm::CliEnvironment env{std::cout, std::cerr, ::isatty(STDERR_FILENO) == 1};
+  // Ctrl-C, kill, a closed terminal: no '*.tmp.PID' file of a write in progress is left behind.
+  imm::remove_temporaries_on_signals();
   // run_cli already maps library exceptions to exit code 1; this is the last line of defence
   // (e.g. an allocation failure while printing the error itself).
   try {

@@ -1,35 +1,91 @@
 #include "core/atomic_file.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 
 namespace imm {
+namespace {
 
-std::string temporary_path(const std::string& path) {
-  return path + ".tmp." + std::to_string(static_cast<long>(::getpid()));
+// Temporaries of writes in progress, readable from a signal handler: a fixed table of slots whose
+// state is a lock-free atomic (0 free, 1 being filled, 2 holds a live path).
+constexpr int kSlots = 64;
+constexpr std::size_t kPathBytes = 4096;
+struct Slot {
+  std::atomic<int> state{0};
+  char path[kPathBytes];
+};
+Slot g_slots[kSlots];
+static_assert(std::atomic<int>::is_always_lock_free, "signal handler needs lock-free atomics");
+
+/// Registers `tmp` before the file is created (so a signal right after creation removes it).
+/// @return the slot, or -1 when the table is full or the path too long (then it is simply not
+///         removed on a signal; the write itself is unaffected).
+int register_temporary(const std::string& tmp) {
+  if (tmp.size() + 1 > kPathBytes) return -1;
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = 0;
+    if (!g_slots[i].state.compare_exchange_strong(expected, 1, std::memory_order_acquire)) continue;
+    std::memcpy(g_slots[i].path, tmp.c_str(), tmp.size() + 1);
+    g_slots[i].state.store(2, std::memory_order_release);
+    return i;
+  }
+  return -1;
 }
 
-WriteStatus write_file_atomic(const std::string& path, std::string_view content) {
-  return write_file_atomic(path, [&](std::ostream& out) {
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    return static_cast<bool>(out);
-  });
+void unregister_temporary(int slot) {
+  if (slot >= 0) g_slots[slot].state.store(0, std::memory_order_release);
 }
 
-WriteStatus write_file_atomic(const std::string& path,
-                              const std::function<bool(std::ostream&)>& fill) {
+extern "C" void remove_temporaries_and_reraise(int signal_number) {
+  for (Slot& s : g_slots)
+    if (s.state.load(std::memory_order_acquire) == 2) ::unlink(s.path);
+  struct sigaction action {};
+  action.sa_handler = SIG_DFL;
+  sigemptyset(&action.sa_mask);
+  ::sigaction(signal_number, &action, nullptr);
+  ::raise(signal_number);
+}
+
+std::string errno_text() { return errno ? std::strerror(errno) : "stream error"; }
+
+/// Writes a FIFO or device in place: no temporary, no rename (neither exists for them).
+WriteStatus write_through(const std::string& path, const std::function<bool(std::ostream&)>& fill) {
+  errno = 0;
+  std::ofstream out(path, std::ios::binary);
+  if (!out) return {"cannot open '" + path + "' for writing: " + errno_text()};
+  if (!fill(out)) return {"writing '" + path + "' was abandoned"};
+  out.flush();
+  const bool ok = static_cast<bool>(out);
+  const std::string reason = errno_text();
+  out.close();
+  if (!ok || out.fail()) return {"cannot write '" + path + "': " + reason};
+  return {};
+}
+
+/// Writes a regular file (existing or not) through a temporary and a rename.
+WriteStatus write_replacing(const std::string& path, const std::function<bool(std::ostream&)>& fill) {
   const std::string tmp = temporary_path(path);
+  const int slot = register_temporary(tmp);
   auto discard = [&]() {
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
+    unregister_temporary(slot);
   };
+  errno = 0;
   std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-  if (!out) return {"cannot create '" + tmp + "': " + std::strerror(errno)};
+  if (!out) {
+    const std::string reason = errno_text();
+    unregister_temporary(slot);
+    return {"cannot create '" + tmp + "': " + reason};
+  }
   bool filled = false;
   try {
     filled = fill(out);
@@ -47,7 +103,7 @@ WriteStatus write_file_atomic(const std::string& path,
   const bool stream_ok = static_cast<bool>(out);
   out.close();
   if (!stream_ok || out.fail()) {
-    const std::string reason = errno ? std::strerror(errno) : "stream error";
+    const std::string reason = errno_text();
     discard();
     return {"cannot write '" + tmp + "': " + reason};
   }
@@ -56,7 +112,48 @@ WriteStatus write_file_atomic(const std::string& path,
     discard();
     return {"cannot rename '" + tmp + "' to '" + path + "': " + reason};
   }
+  unregister_temporary(slot);
   return {};
+}
+
+}  // namespace
+
+std::string temporary_path(const std::string& path) {
+  return path + ".tmp." + std::to_string(static_cast<long>(::getpid()));
+}
+
+WriteStatus write_file_atomic(const std::string& path, std::string_view content) {
+  return write_file_atomic(path, [&](std::ostream& out) {
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    return static_cast<bool>(out);
+  });
+}
+
+WriteStatus write_file_atomic(const std::string& path,
+                              const std::function<bool(std::ostream&)>& fill) {
+  // Follow symbolic links to what they name (a dangling link names the file to create), so that
+  // the rename replaces the target, never the link.
+  std::string target = path;
+  for (int hops = 0;; ++hops) {
+    struct stat st {};
+    if (::lstat(target.c_str(), &st) != 0) {
+      if (errno == ENOENT) return write_replacing(target, fill);
+      return {"cannot write '" + path + "': " + std::strerror(errno)};
+    }
+    if (S_ISLNK(st.st_mode)) {
+      if (hops >= 40) return {"cannot write '" + path + "': too many levels of symbolic links"};
+      std::error_code ec;
+      std::filesystem::path link = std::filesystem::read_symlink(target, ec);
+      if (ec) return {"cannot read the symbolic link '" + target + "': " + ec.message()};
+      if (link.is_relative()) link = std::filesystem::path(target).parent_path() / link;
+      target = link.string();
+      continue;
+    }
+    if (S_ISREG(st.st_mode)) return write_replacing(target, fill);
+    if (S_ISFIFO(st.st_mode) || S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return write_through(target, fill);
+    if (S_ISDIR(st.st_mode)) return {"cannot write '" + path + "': it is a directory"};
+    return {"cannot write '" + path + "': not a regular file, FIFO or device"};
+  }
 }
 
 WriteStatus ensure_directory(const std::string& path) {
@@ -66,6 +163,24 @@ WriteStatus ensure_directory(const std::string& path) {
   std::filesystem::create_directories(path, ec);
   if (ec) return {"cannot create directory '" + path + "': " + ec.message()};
   return {};
+}
+
+void remove_temporaries_on_signals() {
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) {
+    struct sigaction current {};
+    if (::sigaction(signal_number, nullptr, &current) != 0) continue;
+    if (current.sa_handler != SIG_DFL) continue;  // ignored or handled by the program: keep it
+    struct sigaction action {};
+    action.sa_handler = remove_temporaries_and_reraise;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(signal_number, &action, nullptr);
+  }
+}
+
+int temporaries_in_progress() {
+  int n = 0;
+  for (const Slot& s : g_slots) n += s.state.load(std::memory_order_acquire) == 2 ? 1 : 0;
+  return n;
 }
 
 }  // namespace imm

@@ -1,8 +1,18 @@
 // Outputs that are never half-written (DESIGN §3: "never a silent partial file").
 //
-// The content goes to "<path>.tmp.<pid>" in the same directory, is flushed and closed, and is then
-// renamed over `path` (rename(2) is atomic within one file system). On any error the temporary
-// file is removed and `path` is left as it was.
+// A regular file (or a path that does not exist yet) is written to "<path>.tmp.<pid>" in the same
+// directory, flushed and closed, and then renamed over `path` (rename(2) is atomic within one file
+// system). On any error the temporary file is removed and `path` is left as it was.
+//
+// What the path names is respected, never replaced: a symbolic link is followed (its target is
+// written atomically, the link stays a link); a FIFO or a character/block device is written
+// through (opened for writing, no temporary, no rename: such a stream cannot be made atomic, and
+// whatever was written before an error has already gone to its reader); a directory or a socket
+// is refused with an error.
+//
+// Signals: remove_temporaries_on_signals() makes SIGINT, SIGTERM, SIGHUP and SIGQUIT remove every
+// temporary this process has open before the signal's default action ends the process. Programs
+// call it once at start-up; a library never installs handlers on its own.
 #pragma once
 
 #include <functional>
@@ -21,7 +31,8 @@ struct WriteStatus {
 /// The temporary name used for `path` by this process: "<path>.tmp.<pid>".
 std::string temporary_path(const std::string& path);
 
-/// Writes `content` to `path` atomically (temporary file + rename).
+/// Writes `content` to `path` atomically (temporary file + rename) when `path` is, or will be, a
+/// regular file; see the file comment for links, FIFOs and devices.
 /// @param[in] path destination; its directory must exist (see ensure_directory).
 /// @return the status; on failure nothing is left behind and `path` is unchanged.
 WriteStatus write_file_atomic(const std::string& path, std::string_view content);
@@ -35,5 +46,14 @@ WriteStatus write_file_atomic(const std::string& path,
 /// Creates a directory and its parents when missing. @return the status (error when the path
 /// exists and is not a directory, or cannot be created).
 WriteStatus ensure_directory(const std::string& path);
+
+/// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT (those whose disposition is still
+/// the default) that unlink the temporaries of writes in progress, then re-raise the signal with
+/// its default action (so the exit status still says which signal ended the process).
+/// Idempotent. Async-signal-safe inside the handler (unlink, sigaction, raise only).
+void remove_temporaries_on_signals();
+
+/// The number of temporaries of writes in progress in this process (for tests).
+int temporaries_in_progress();
 
 }  // namespace imm

@@ -1,5 +1,7 @@
 #include "core/diagnostics.h"
 
+#include "core/printable.h"
+
 #include <sstream>
 
 namespace imm {
@@ -28,6 +30,41 @@ const char* to_string(DefectKind kind) {
   return "unknown";
 }
 
+void sanitize_message(std::string& message) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(message[i]); };
+  for (std::size_t i = 0; i < message.size();) {
+    const unsigned char c = byte(i);
+    if (c < 0x80) {
+      if ((c < 0x20 && c != '\n' && c != '\t') || c == 0x7f) message[i] = '?';
+      ++i;
+      continue;
+    }
+    // The length of a UTF-8 sequence from its lead byte, and the smallest second byte allowed
+    // (no overlong forms, no surrogates, nothing beyond U+10FFFF).
+    std::size_t length = 0;
+    unsigned char low = 0x80, high = 0xbf;
+    if (c >= 0xc2 && c <= 0xdf) {
+      length = 2;
+    } else if (c >= 0xe0 && c <= 0xef) {
+      length = 3;
+      if (c == 0xe0) low = 0xa0;
+      if (c == 0xed) high = 0x9f;
+    } else if (c >= 0xf0 && c <= 0xf4) {
+      length = 4;
+      if (c == 0xf0) low = 0x90;
+      if (c == 0xf4) high = 0x8f;
+    }
+    bool valid = length > 0 && i + length <= message.size() && byte(i + 1) >= low && byte(i + 1) <= high;
+    for (std::size_t k = 2; valid && k < length; ++k) valid = byte(i + k) >= 0x80 && byte(i + k) <= 0xbf;
+    if (!valid) {
+      message[i] = '?';
+      ++i;
+    } else {
+      i += length;
+    }
+  }
+}
+
 std::string ValidationReport::summary(std::size_t max_lines) const {
   std::ostringstream os;
   std::size_t shown = 0;
@@ -36,7 +73,7 @@ std::string ValidationReport::summary(std::size_t max_lines) const {
       os << "... and " << (total() - shown) << " more\n";
       return os.str();
     }
-    os << to_string(d.kind) << " (" << d.stage << "): " << d.message << '\n';
+    os << to_string(d.kind) << " (" << d.stage << "): " << printable(d.message) << '\n';
     ++shown;
   }
   if (unlisted > 0) os << "... and " << unlisted << " more (not listed)\n";

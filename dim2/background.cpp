@@ -148,6 +148,9 @@ void extract(Cdt& cdt, detail::Background& out, ToPoint&& store_vertex) {
     out.triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
 }
 
+/// The largest generated 2D background (see generate_background).
+constexpr double kMaxBackgroundTriangles = 4e6;
+
 detail::Background generate_background(const Complex2& complex, const MeshOptions& options,
                                        ValidationReport& report) {
   IMM_ASSERT(options.resolution >= 1, "mesh resolution must be at least 1");
@@ -169,6 +172,24 @@ detail::Background generate_background(const Complex2& complex, const MeshOption
   }
   const Box& box = extent.enlarged;
   const double size_bound = extent.diagonal / options.resolution;
+  // The mesher's size: the seed lattice alone has area / (sqrt(3)/4 (0.95 h)^2) triangles (about
+  // 1.7 resolution^2 for a square input). Refused before any allocation above kMaxTriangles:
+  // resolution 3,000 (15 million triangles) took 39 s and 3.2 GB, 10,000 ran out of memory.
+  {
+    const double spacing = 0.95 * size_bound;
+    const double area = (box.xmax - box.xmin) * (box.ymax - box.ymin);
+    const double estimate = area / (std::sqrt(3.0) / 4.0 * spacing * spacing);
+    if (!(estimate <= kMaxBackgroundTriangles)) {
+      std::ostringstream msg;
+      msg << "resolution " << options.resolution << " would generate about "
+          << static_cast<long long>(std::min(estimate, 1e18)) << " background triangles; at most "
+          << static_cast<long long>(kMaxBackgroundTriangles) << " are generated (about resolution "
+          << static_cast<long long>(options.resolution * std::sqrt(kMaxBackgroundTriangles / estimate))
+          << " for this input; or pass --background)";
+      report.add({DefectKind::OutOfRange, "mesh", msg.str(), {}, {}, {}});
+      return {};
+    }
+  }
   detail::Background out;
   if (!options.conforming) {
     using Types = MesherTypes<Epick>;
@@ -242,7 +263,10 @@ TriangleMesh read_medit_2d(const std::string& path, ValidationReport& report) {
       if (dimension != 2) return fail("Vertices before 'Dimension 2'");
       long n = 0;
       if (!next_number(n) || n < 0) return fail("bad vertex count");
+      if (static_cast<std::size_t>(n) > (tokens.size() - pos) / 3)  // before allocating for it
+        return fail("the file ends before its " + std::to_string(n) + " vertices");
       mesh.vertices.resize(static_cast<std::size_t>(n));
+      long far = 0;  // vertices beyond the range (the first 10 are listed)
       for (long i = 0; i < n; ++i) {
         long ref = 0;
         Point& p = mesh.vertices[static_cast<std::size_t>(i)];
@@ -251,6 +275,12 @@ TriangleMesh read_medit_2d(const std::string& path, ValidationReport& report) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
           Defect d = make_defect(DefectKind::NonFinite,
                                  "background vertex " + std::to_string(i) + " is not finite");
+          d.vertices = {i};
+          report.add(std::move(d));
+        } else if (!(std::abs(p.x) <= kMaxCoordinate2 && std::abs(p.y) <= kMaxCoordinate2) && ++far <= 10) {
+          Defect d = make_defect(DefectKind::OutOfRange, "background vertex " + std::to_string(i) + " " +
+                                                             format_point(p) +
+                                                             " lies beyond the 2D coordinate range |x|, |y| <= 1e75");
           d.vertices = {i};
           report.add(std::move(d));
         }
@@ -287,8 +317,9 @@ TriangleMesh read_medit_2d(const std::string& path, ValidationReport& report) {
       if (per_entry < 0) return fail("unknown keyword '" + tokens[pos - 1] + "'");
       long n = 0;
       if (!next_number(n) || n < 0) return fail("bad count after '" + tokens[pos - 1] + "'");
+      if (static_cast<std::size_t>(n) > (tokens.size() - pos) / static_cast<std::size_t>(per_entry))
+        return fail("truncated section '" + keyword + "'");
       const std::size_t skip = static_cast<std::size_t>(n) * static_cast<std::size_t>(per_entry);
-      if (pos + skip > tokens.size()) return fail("truncated section '" + keyword + "'");
       pos += skip;
     }
   }

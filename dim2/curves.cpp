@@ -51,6 +51,33 @@ Defect read_error(std::string message) {
   return Defect{DefectKind::Unreadable, kReadStage, std::move(message), {}, {}, {}};
 }
 
+/// A line of the file for a message: at most 40 characters, anything but printable ASCII as
+/// '?', so a binary file given by mistake cannot flood the terminal with raw bytes.
+std::string excerpt(std::string_view line) {
+  constexpr std::size_t kMax = 40;
+  std::string s(line.substr(0, kMax));
+  for (char& c : s) {
+    if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+  }
+  return "'" + s + (line.size() > kMax ? "...'" : "'");
+}
+
+/// At most kMaxReadErrors messages about unreadable lines, then one "... and N more".
+class LineErrors {
+ public:
+  void add(ValidationReport& report, std::string message) {
+    if (++count_ <= kMaxReadErrors) report.add(read_error(std::move(message)));
+  }
+  void finish(ValidationReport& report) const {
+    if (count_ > kMaxReadErrors)
+      report.add(read_error("... and " + std::to_string(count_ - kMaxReadErrors) + " more unreadable lines"));
+  }
+
+ private:
+  static constexpr std::size_t kMaxReadErrors = 20;
+  std::size_t count_ = 0;
+};
+
 bool ends_with_ci(const std::string& s, std::string_view suffix) {
   if (s.size() < suffix.size()) return false;
   for (std::size_t i = 0; i < suffix.size(); ++i) {
@@ -138,15 +165,109 @@ class SvgScanner {
   std::size_t pos_ = 0;
 };
 
+/// An affine map x' = a x + c y + e, y' = b x + d y + f (SVG's matrix(a b c d e f)).
+struct SvgMatrix {
+  double a = 1, b = 0, c = 0, d = 1, e = 0, f = 0;
+  [[nodiscard]] bool is_identity() const { return a == 1 && b == 0 && c == 0 && d == 1 && e == 0 && f == 0; }
+  /// this * m (m is applied first).
+  [[nodiscard]] SvgMatrix then_inner(const SvgMatrix& m) const {
+    return {a * m.a + c * m.b, b * m.a + d * m.b, a * m.c + c * m.d, b * m.c + d * m.d, a * m.e + c * m.f + e,
+            b * m.e + d * m.f + f};
+  }
+  [[nodiscard]] Point apply(const Point& p) const { return {a * p.x + c * p.y + e, b * p.x + d * p.y + f}; }
+};
+
 struct SvgElement {
   std::string name;                            ///< local name, lower case ("polygon", ...)
   std::map<std::string, std::string> attributes;
   std::size_t line = 0;
+  /// The element's own `transform` composed with its ancestors' (outermost applied last).
+  SvgMatrix transform;
+  /// Inside <defs>, <symbol>, <clipPath>, <mask>, <pattern> or <marker>: not drawn by itself.
+  bool in_definitions = false;
+  /// Why the transform of the element or an ancestor could not be read ("" when it could).
+  std::string transform_error;
 };
 
-/// Elements of an SVG document (attributes only; nesting and text are irrelevant here).
+/// Parses an SVG transform list ("translate(10 20) rotate(30)", SVG 1.1 §7.6).
+/// @return the composed matrix, or nullopt with `error` set.
+std::optional<SvgMatrix> parse_svg_transform(const std::string& value, std::string& error) {
+  SvgMatrix total;
+  std::size_t p = 0;
+  const auto skip = [&] {
+    while (p < value.size() && (std::isspace(static_cast<unsigned char>(value[p])) || value[p] == ',')) ++p;
+  };
+  for (skip(); p < value.size(); skip()) {
+    const std::size_t name_start = p;
+    while (p < value.size() && std::isalpha(static_cast<unsigned char>(value[p]))) ++p;
+    const std::string name = value.substr(name_start, p - name_start);
+    while (p < value.size() && std::isspace(static_cast<unsigned char>(value[p]))) ++p;
+    const std::size_t close = value.find(')', p);
+    if (name.empty() || p >= value.size() || value[p] != '(' || close == std::string::npos) {
+      error = "unreadable transform '" + value.substr(0, 60) + "'";
+      return std::nullopt;
+    }
+    SvgScanner scan(std::string_view(value).substr(p + 1, close - p - 1));
+    std::vector<double> args;
+    while (!scan.at_end()) {
+      const auto v = scan.number();
+      if (!v) {
+        error = "unreadable arguments of " + name + "() in transform '" + value.substr(0, 60) + "'";
+        return std::nullopt;
+      }
+      args.push_back(*v);
+    }
+    p = close + 1;
+    const auto n = args.size();
+    const double kDegree = std::acos(-1.0) / 180;
+    SvgMatrix m;
+    if (name == "matrix" && n == 6) {
+      m = {args[0], args[1], args[2], args[3], args[4], args[5]};
+    } else if (name == "translate" && (n == 1 || n == 2)) {
+      m.e = args[0];
+      m.f = n == 2 ? args[1] : 0.0;
+    } else if (name == "scale" && (n == 1 || n == 2)) {
+      m.a = args[0];
+      m.d = n == 2 ? args[1] : args[0];
+    } else if (name == "rotate" && (n == 1 || n == 3)) {
+      const double c = std::cos(args[0] * kDegree), s = std::sin(args[0] * kDegree);
+      const SvgMatrix r{c, s, -s, c, 0, 0};
+      if (n == 1) {
+        m = r;
+      } else {  // rotate(a cx cy) = translate(cx cy) rotate(a) translate(-cx -cy)
+        m = SvgMatrix{1, 0, 0, 1, args[1], args[2]}.then_inner(r).then_inner(SvgMatrix{1, 0, 0, 1, -args[1], -args[2]});
+      }
+    } else if (name == "skewX" && n == 1) {
+      m.c = std::tan(args[0] * kDegree);
+    } else if (name == "skewY" && n == 1) {
+      m.b = std::tan(args[0] * kDegree);
+    } else {
+      error = "unsupported transform " + name + "() with " + std::to_string(n) + " arguments";
+      return std::nullopt;
+    }
+    total = total.then_inner(m);
+  }
+  for (double x : {total.a, total.b, total.c, total.d, total.e, total.f}) {
+    if (!std::isfinite(x)) {
+      error = "transform '" + value.substr(0, 60) + "' is not finite";
+      return std::nullopt;
+    }
+  }
+  return total;
+}
+
+/// Elements of an SVG document with their attributes, each with the transform of its ancestors
+/// composed with its own (text content is irrelevant here).
 bool scan_svg_elements(const std::string& text, std::vector<SvgElement>& out, std::string& error) {
   std::size_t pos = 0;
+  // Open (not self-closed) elements: what their children inherit.
+  struct Open {
+    std::string name;
+    SvgMatrix transform;
+    bool in_definitions;
+    std::string transform_error;
+  };
+  std::vector<Open> open;
   while (true) {
     pos = text.find('<', pos);
     if (pos == std::string::npos) return true;
@@ -171,6 +292,7 @@ bool scan_svg_elements(const std::string& text, std::vector<SvgElement>& out, st
     if (pos + 1 < text.size() && (text[pos + 1] == '?' || text[pos + 1] == '!' || text[pos + 1] == '/')) {
       const std::size_t end = text.find('>', pos);
       if (end == std::string::npos) break;
+      if (text[pos + 1] == '/' && !open.empty()) open.pop_back();  // a closing tag
       pos = end + 1;
       continue;
     }
@@ -184,6 +306,7 @@ bool scan_svg_elements(const std::string& text, std::vector<SvgElement>& out, st
     for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     element.name = name;
     // Attributes: name = "value" | 'value'.
+    bool self_closing = false;
     while (true) {
       while (p < text.size() && std::isspace(static_cast<unsigned char>(text[p]))) ++p;
       if (p >= text.size()) {
@@ -195,6 +318,7 @@ bool scan_svg_elements(const std::string& text, std::vector<SvgElement>& out, st
         break;
       }
       if (text[p] == '/') {
+        self_closing = p + 1 < text.size() && text[p + 1] == '>';
         ++p;
         continue;
       }
@@ -220,10 +344,41 @@ bool scan_svg_elements(const std::string& text, std::vector<SvgElement>& out, st
         p = value_end + 1;
       }
     }
+    if (!open.empty()) {
+      element.transform = open.back().transform;
+      element.in_definitions = open.back().in_definitions;
+      element.transform_error = open.back().transform_error;
+    }
+    if (auto it = element.attributes.find("transform"); it != element.attributes.end() && element.transform_error.empty()) {
+      std::string why;
+      if (const auto own = parse_svg_transform(it->second, why)) {
+        element.transform = element.transform.then_inner(*own);
+      } else {
+        element.transform_error = "<" + name + "> at line " + std::to_string(element.line) + ": " + why;
+      }
+    }
+    element.in_definitions = element.in_definitions || name == "defs" || name == "symbol" || name == "clippath" ||
+                             name == "mask" || name == "pattern" || name == "marker";
+    if (!self_closing) open.push_back({name, element.transform, element.in_definitions, element.transform_error});
     out.push_back(std::move(element));
     pos = p;
   }
   return true;
+}
+
+/// A length attribute of <rect>: a plain number in user units (a trailing "px" is the same).
+/// Percentages and absolute units (mm, cm, in, pt, pc, em, ex) depend on the viewport or the
+/// font and are refused. @return the value, or nullopt with `error` naming the attribute.
+std::optional<double> svg_length(const std::string& value, const char* name, std::string& error) {
+  SvgScanner scan(value);
+  const auto number = scan.number();
+  std::string rest = value.substr(scan.position());
+  rest.erase(std::remove_if(rest.begin(), rest.end(), [](char c) { return std::isspace(static_cast<unsigned char>(c)); }),
+             rest.end());
+  if (number && (rest.empty() || rest == "px")) return number;
+  error = "unsupported length " + std::string(name) + "=" + excerpt(value) +
+          " (only plain numbers in user units, or px)";
+  return std::nullopt;
 }
 
 std::string describe_element(const SvgElement& e, std::size_t index) {
@@ -347,10 +502,31 @@ ReadResult parse_svg(const std::string& text) {
   }
   std::size_t index = 0;
   for (const SvgElement& e : elements) {
+    if (e.name == "use" && !e.in_definitions) {
+      result.report.add(read_error("SVG <use> at line " + std::to_string(e.line) +
+                                   " draws a copy of another element; clones are not supported (unlink them)"));
+      continue;
+    }
     const bool shape = e.name == "polygon" || e.name == "polyline" || e.name == "path" ||
                        e.name == "rect" || e.name == "circle" || e.name == "ellipse" || e.name == "line";
-    if (!shape) continue;
+    if (!shape || e.in_definitions) continue;
     const std::string where = describe_element(e, index++);
+    if (!e.transform_error.empty()) {
+      result.report.add(read_error("SVG " + where + ": " + e.transform_error));
+      continue;
+    }
+    // The element's coordinates are in its own user space: map them to the document's.
+    const std::size_t first_curve = result.curves.curves.size();
+    struct ApplyTransform {
+      ReadResult& result;
+      std::size_t first;
+      const SvgMatrix& m;
+      ~ApplyTransform() {
+        if (m.is_identity()) return;
+        for (std::size_t c = first; c < result.curves.curves.size(); ++c)
+          for (Point& p : result.curves.curves[c].vertices) p = m.apply(p);
+      }
+    } apply_transform{result, first_curve, e.transform};
     auto attribute = [&](const char* name) -> const std::string* {
       auto it = e.attributes.find(name);
       return it == e.attributes.end() ? nullptr : &it->second;
@@ -366,15 +542,15 @@ ReadResult parse_svg(const std::string& text) {
         result.report.add(read_error("SVG " + where + " has rounded (curved) corners"));
         continue;
       }
+      std::string why;
       auto number = [&](const char* name) -> std::optional<double> {
         const std::string* v = attribute(name);
         if (v == nullptr) return 0.0;
-        SvgScanner scan(*v);
-        return scan.number();
+        return svg_length(*v, name, why);
       };
       const auto x = number("x"), y = number("y"), w = number("width"), h = number("height");
       if (!x || !y || !w || !h) {
-        result.report.add(read_error("SVG " + where + ": unreadable geometry attribute"));
+        result.report.add(read_error("SVG " + where + ": " + why));
         continue;
       }
       Curve c;
@@ -424,6 +600,7 @@ ReadResult parse_obj(const std::string& text) {
   };
   std::vector<ObjSegment> segments;
   bool saw_faces = false;
+  LineErrors line_errors;
   std::istringstream in(text);
   std::string line;
   std::size_t line_number = 0;
@@ -443,8 +620,8 @@ ReadResult parse_obj(const std::string& text) {
         y = parse_double_token(tokens[1]);
       }
       if (!x || !y || tokens.size() > 4) {
-        result.report.add(read_error("OBJ line " + std::to_string(line_number) +
-                                     ": expected 'v x y [z]', found '" + line + "'"));
+        line_errors.add(result.report, "OBJ line " + std::to_string(line_number) +
+                                           ": expected 'v x y [z]', found " + excerpt(line));
         positions.push_back({});
         continue;
       }
@@ -461,8 +638,9 @@ ReadResult parse_obj(const std::string& text) {
         const long index = value < 0 ? count + value : value - 1;
         if (parsed.ec != std::errc() || parsed.ptr != head.data() + head.size() || value == 0 ||
             index < 0 || index >= count) {
-          result.report.add(read_error("OBJ line " + std::to_string(line_number) + ": bad vertex reference '" + t +
-                                       "' (" + std::to_string(count) + " vertices defined so far)"));
+          line_errors.add(result.report, "OBJ line " + std::to_string(line_number) + ": bad vertex reference " +
+                                             excerpt(t) + " (" + std::to_string(count) +
+                                             " vertices defined so far)");
           ok = false;
           break;
         }
@@ -489,6 +667,7 @@ ReadResult parse_obj(const std::string& text) {
       saw_faces = true;
     }
   }
+  line_errors.finish(result.report);
   if (!result.report.ok()) return result;
 
   // Chain the segments into closed loops: every used vertex needs one incoming and one outgoing
@@ -564,6 +743,7 @@ ReadResult parse_curves_text(const std::string& text) {
     result.curves.curves.push_back(std::move(current));
     current = Curve{};
   };
+  LineErrors line_errors;
   std::istringstream in(text);
   std::string line;
   std::size_t line_number = 0;
@@ -590,12 +770,13 @@ ReadResult parse_curves_text(const std::string& text) {
       y = parse_double_token(tokens[1]);
     }
     if (!x || !y) {
-      result.report.add(read_error("line " + std::to_string(line_number) + ": expected two numbers 'x y', found '" +
-                                   line + "'"));
+      line_errors.add(result.report,
+                      "line " + std::to_string(line_number) + ": expected two numbers 'x y', found " + excerpt(line));
       continue;
     }
     current.vertices.push_back({*x, *y});
   }
+  line_errors.finish(result.report);
   finish();
   return with_validation(std::move(result));
 }
@@ -647,6 +828,9 @@ ValidationReport validate_curves(const CurveSet& curves) {
     return report;
   }
   std::size_t offset = 0;
+  // Vertices beyond kMaxCoordinate2: the first few are listed, then one count.
+  constexpr std::size_t kMaxRangeMessages = 10;
+  std::size_t out_of_range = 0;
   for (std::size_t ci = 0; ci < curves.curves.size(); ++ci) {
     const std::vector<Point>& v = curves.curves[ci].vertices;
     const std::size_t n = v.size();
@@ -655,7 +839,17 @@ ValidationReport validate_curves(const CurveSet& curves) {
     auto coords = [&](std::size_t local) { return std::vector<double>{v[local].x, v[local].y}; };
     bool finite = true;
     for (std::size_t i = 0; i < n; ++i) {
-      if (std::isfinite(v[i].x) && std::isfinite(v[i].y)) continue;
+      if (std::isfinite(v[i].x) && std::isfinite(v[i].y)) {
+        if (std::abs(v[i].x) <= kMaxCoordinate2 && std::abs(v[i].y) <= kMaxCoordinate2) continue;
+        finite = false;
+        if (++out_of_range > kMaxRangeMessages) continue;
+        report.add(Defect{DefectKind::OutOfRange, kValidateStage,
+                          curve_name + ": vertex " + std::to_string(global(i)) + " " + format_point(v[i]) +
+                              " lies beyond the coordinate range of 2D inputs, |x|, |y| <= 1e75 (the interval "
+                              "filters of the exact arithmetic overflow beyond it; scale the input)",
+                          {}, {global(i)}, {coords(i)}});
+        continue;
+      }
       finite = false;
       report.add(Defect{DefectKind::NonFinite, kValidateStage,
                         curve_name + ": vertex " + std::to_string(global(i)) + " has a non-finite coordinate " +
@@ -700,6 +894,10 @@ ValidationReport validate_curves(const CurveSet& curves) {
     }
     offset += n;
   }
+  if (out_of_range > kMaxRangeMessages)
+    report.add(Defect{DefectKind::OutOfRange, kValidateStage,
+                      "... and " + std::to_string(out_of_range - kMaxRangeMessages) + " more vertices beyond 1e75",
+                      {}, {}, {}});
   return report;
 }
 

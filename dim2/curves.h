@@ -64,4 +64,12 @@ std::string format_point(const Point& p);
 /// Every defect names curve, vertex indices and coordinates.
 ValidationReport validate_curves(const CurveSet& curves);
 
+/// The largest absolute coordinate of a 2D input (validate_curves refuses larger ones with an
+/// OutOfRange defect, exit 2). The decisions are exact at any size, but CGAL's interval filters
+/// compute products of three coordinates in doubles: beyond about 5.6e102 they overflow to
+/// infinite bounds and the arrangement sweep crashed (issue 13, at 1e102 on the fig6 curve). 1e75
+/// keeps four-fold products finite, and is also the range of a generated background mesh.
+/// Tiny coordinates have no such limit (an interval that underflows stays conservative).
+inline constexpr double kMaxCoordinate2 = 1e75;
+
 }  // namespace imm::dim2

@@ -53,6 +53,10 @@ struct MeshStats {
   double seconds_background = 0.0;
   double seconds_virtual = 0.0;  ///< clipping + local regions
   double seconds_assembly = 0.0; ///< copies, fusion, union-find
+  /// The largest distance, relative to the input's bounding-box diagonal, between an input
+  /// vertex and its reproduction from the embedding in doubles. DESIGN §4.6 promises at most
+  /// 1e-9; a --background far larger than the input can pass it (the program then warns).
+  double embedding_error = 0.0;
 };
 
 /// What one output triangle (an element copy) holds. A copy is a union of "atoms": local regions

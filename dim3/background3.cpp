@@ -32,8 +32,21 @@ constexpr double kMaxTets = 50e6;
 /// The shift of the grid origin, as a fraction of h, for one attempt and axis: odd decimals, so
 /// that lattice planes avoid the round coordinates of typical inputs; different per axis so that
 /// no lattice point lies on the box's diagonal planes either.
+///
+/// A retry must not repeat a contact. A contact (input vertex on a tet face, input edge through a
+/// tet edge, tet vertex on an input triangle) survives every translation parallel to the face, to
+/// both edges, or to the triangle; retries that moved along one direction only would meet it
+/// again whenever that direction lies in such a plane. Moving along (1,1,1), the direction of
+/// the Kuhn tets' long edges, did exactly that (issue 13: the unit tetrahedron failed at every
+/// retry). So each retry adds attempt * kStep (mod 1) per axis: kStep = (1/g, 1/g^2, 1/g^3) with
+/// g the plastic number (the R3 low-discrepancy sequence). Modulo the lattice, one retry moves the
+/// grid by kStep h, whose components are independent over the rationals: it is parallel to no
+/// lattice plane and no tet edge of the grid (their directions are rational), and lies in the
+/// plane of an input triangle only if that triangle's normal is orthogonal to it.
 double shift_fraction(int attempt, int axis) {
-  return std::fmod(0.0123457 * (attempt + 1) + 0.00731 * axis, 1.0);
+  constexpr double kStep[3] = {0.7548776662466927, 0.5698402909980532, 0.4301597090019468};
+  const double first = 0.0123457 + 0.00731 * axis;  // attempt 0, as before
+  return std::fmod(first + attempt * kStep[axis], 1.0);
 }
 
 }  // namespace

@@ -489,16 +489,26 @@ class ComplexBuilder {
     std::vector<CGAL::Mpzf> dyadic(regions, CGAL::Mpzf(0));
     std::vector<double> approx(regions, 0.0);
     const std::uint32_t input_vertices = static_cast<std::uint32_t>(s_.vertex_count());
-    for (std::uint32_t t = 0; t < m_.triangles.size(); ++t) {
-      const Triangle& st = m_.triangles[t];
-      const std::uint32_t neg = region_of_side(patch_of_[t], true), pos = region_of_side(patch_of_[t], false);
-      if (!options_.exact_volumes) {
+    // Doubles overflow for coordinates beyond about 5e102 (a cube of them passes DBL_MAX): then
+    // the volumes are computed exactly after all, never converted from an infinity.
+    bool exact_volumes = options_.exact_volumes;
+    if (!exact_volumes) {
+      for (std::uint32_t t = 0; t < m_.triangles.size() && !exact_volumes; ++t) {
+        const Triangle& st = m_.triangles[t];
+        const std::uint32_t neg = region_of_side(patch_of_[t], true), pos = region_of_side(patch_of_[t], false);
         const Point3 a = approx_point(st[0]), b = approx_point(st[1]), c = approx_point(st[2]);
         const double v = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                          a[2] * (b[0] * c[1] - b[1] * c[0]);
         approx[neg] += v;
         approx[pos] -= v;
-      } else if (st[0] < input_vertices && st[1] < input_vertices && st[2] < input_vertices) {
+        exact_volumes = !std::isfinite(approx[neg]) || !std::isfinite(approx[pos]);
+      }
+      if (exact_volumes) log("complex: volumes overflow doubles; computed exactly");
+    }
+    for (std::uint32_t t = 0; t < m_.triangles.size() && exact_volumes; ++t) {
+      const Triangle& st = m_.triangles[t];
+      const std::uint32_t neg = region_of_side(patch_of_[t], true), pos = region_of_side(patch_of_[t], false);
+      if (st[0] < input_vertices && st[1] < input_vertices && st[2] < input_vertices) {
         const CGAL::Mpzf v = six_volume_dyadic(s_.vertices[st[0]], s_.vertices[st[1]], s_.vertices[st[2]]);
         dyadic[neg] += v;
         dyadic[pos] -= v;
@@ -509,14 +519,14 @@ class ComplexBuilder {
         terms[pos].push_back(-v);
       }
     }
-    log(std::string("complex: volumes ") + (options_.exact_volumes ? "(exact)" : "(doubles)"));
+    log(std::string("complex: volumes ") + (exact_volumes ? "(exact)" : "(doubles)"));
     std::vector<int> genus = region_genus();
     log("complex: genus of every region boundary");
 
     CellComplex<3>& cc = out.complex;
     for (std::uint32_t r = 0; r < regions; ++r) {
       Rational volume(0);
-      if (r != 0 && options_.exact_volumes) {
+      if (r != 0 && exact_volumes) {
         terms[r].push_back(to_rational(dyadic[r]));
         volume = tree_sum(std::move(terms[r])) / 6;
       } else if (r != 0) {
@@ -580,7 +590,7 @@ class ComplexBuilder {
     out.triple_points = m_.triple_points;
     out.cut_edges = m_.pieces.size();
     out.groups = group_count_;
-    out.exact_volumes = options_.exact_volumes;
+    out.exact_volumes = exact_volumes;
   }
 
   /// Total genus of each region's boundary surface, made manifold by splitting it along the arcs

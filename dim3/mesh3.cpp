@@ -27,6 +27,20 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// The box of the vertices the triangles use: an unused vertex (issue 13) neither stretches a
+/// generated grid nor needs covering. @pre s has a triangle.
+Box3 used_bounding_box(const Surface& s) {
+  const Point3& first = s.vertices[s.triangles.front()[0]];
+  Box3 b{first, first};
+  for (const Triangle& t : s.triangles)
+    for (std::uint32_t v : t)
+      for (int d = 0; d < 3; ++d) {
+        b.lo[d] = std::min(b.lo[d], s.vertices[v][d]);
+        b.hi[d] = std::max(b.hi[d], s.vertices[v][d]);
+      }
+  return b;
+}
+
 }  // namespace
 
 namespace detail {
@@ -92,8 +106,18 @@ void assemble3(const Complex3& complex, const Immersion& immersion, const TetMes
   // 5. Embedding: each input vertex goes into the copy holding the owner of its patch, on the
   // patch's inner side (the owner's copy of the patch is the boundary of the immersed solid).
   result.embedding.resize(input_vertices);
+  std::vector<char> used(input_vertices, 0);
+  for (const Triangle& t : complex.surface.triangles)
+    for (std::uint32_t v : t)
+      if (v < input_vertices) used[v] = 1;
   for (std::size_t v = 0; v < input_vertices; ++v) {
     const auto& location = local.vertices[v];
+    if (!used[v]) {
+      // Not on the surface, so on no patch and in no copy's boundary: left out of the embedding
+      // (element -1), listed in the stats and reported as a note by the caller.
+      result.stats.unused_vertices.push_back(v);
+      continue;
+    }
     if (location.local_region == kNone) {
       const Point3& p = complex.surface.vertices[v];
       Defect d;
@@ -150,7 +174,7 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   // is kept and the input is translated relative to it by a tiny explicit vector (about 2^-32 of
   // the input's diagonal), for which every decision is again exact.
   auto start = std::chrono::steady_clock::now();
-  const Box3 box = bounding_box(complex.surface);
+  const Box3 box = used_bounding_box(complex.surface);
   if (options.background_path) {
     TetReadResult read = read_tet_mesh(*options.background_path);
     result.report = std::move(read.report);
@@ -220,6 +244,26 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   detail::assemble3(complex, immersion, result.background, local, input_vertices, input_triangles,
                     options.record_contents, result);
   result.stats.seconds_assembly = seconds_since(start);
+  // DESIGN §4.6: the .emb weights reproduce every vertex within 1e-9 of the diagonal. Measured
+  // here, in the doubles a reader has, so a background far larger than the input (whose
+  // weights lose digits) is reported instead of silently wrong.
+  if (result.report.ok()) {
+    double worst = 0.0;
+    for (std::size_t v = 0; v < result.embedding.size(); ++v) {
+      const EmbeddedVertex3& e = result.embedding[v];
+      if (e.element < 0) continue;
+      const Tet& tet = result.mesh.tets[static_cast<std::size_t>(e.element)];
+      Point3 error{};
+      for (int d = 0; d < 3; ++d) {
+        double x = 0.0;
+        for (int k = 0; k < 4; ++k) x += e.weights[k] * result.mesh.vertices[static_cast<std::size_t>(tet[k])][d];
+        error[d] = x - (complex.surface.vertices[v][d] + result.stats.input_shift[d]);
+      }
+      worst = std::max(worst, std::hypot(error[0], error[1], error[2]));  // no overflow at 1e300
+    }
+    const double size = std::hypot(box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]);
+    result.stats.embedding_error = size > 0 ? worst / size : worst;
+  }
   log("meshing: " + std::to_string(result.mesh.tets.size()) + " output tets, " +
       std::to_string(result.mesh.vertices.size()) + " vertices");
   return result;

@@ -63,6 +63,14 @@ struct MeshStats3 {
   /// embedding reproduces the translated vertices.
   Point3 input_shift{0, 0, 0};
   std::size_t helper_tets = 0;      ///< tets of helper-box solids, dropped from the output
+  /// Input vertices no triangle uses: on no patch, so in no copy; their embedding is element -1
+  /// (written `-1 0 0 0 0` in the .emb) and the program reports them as a note.
+  std::vector<std::size_t> unused_vertices;
+  /// The largest distance, relative to the input's bounding-box diagonal, between an input
+  /// vertex (translated by input_shift) and its reproduction from the embedding in doubles
+  /// (sum of weights times output vertices). DESIGN §4.6 promises at most 1e-9; a background
+  /// far larger than the input can pass it (the program then warns).
+  double embedding_error = 0.0;
   std::vector<std::size_t> copies_per_cell;  ///< output tets per cell (by CellId)
   double seconds_background = 0.0;
   double seconds_virtual = 0.0;   ///< clipping, pieces, local regions
@@ -111,7 +119,8 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
                             std::size_t input_vertices = static_cast<std::size_t>(-1),
                             std::size_t input_triangles = static_cast<std::size_t>(-1));
 
-/// .emb text: number of input vertices, then `tet w0 w1 w2 w3` per vertex (max_digits10).
+/// .emb text: number of input vertices, then `tet w0 w1 w2 w3` per vertex (max_digits10); an
+/// unused input vertex (MeshStats3::unused_vertices) is `-1 0 0 0 0`.
 std::string format_embedding3(const std::vector<EmbeddedVertex3>& embedding);
 
 }  // namespace imm::dim3

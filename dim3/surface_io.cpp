@@ -70,12 +70,17 @@ struct Soup {
   std::vector<std::int64_t> corners;        ///< 0-based, possibly out of range
   std::vector<std::size_t> polygon_start{0};
   std::vector<std::uint64_t> polygon_where;
+  std::vector<bool> polygon_unreadable;  ///< already reported (kept as an empty polygon)
   int index_base = 0;  ///< how the file numbers vertices (OBJ: 1), for messages
   bool saw_polylines = false;
 
-  void add_polygon(std::uint64_t where) {
+  /// Ends a polygon. An `unreadable` one (already reported) is kept empty so that the face
+  /// numbering stays that of the file; an empty polygon that was read (OBJ 'f' alone, OFF and
+  /// PLY count 0) is a face with 0 vertices, reported like one with 1 or 2.
+  void add_polygon(std::uint64_t where, bool unreadable = false) {
     polygon_start.push_back(corners.size());
     polygon_where.push_back(where);
+    polygon_unreadable.push_back(unreadable);
   }
   /// A vertex that could not be parsed: a NaN placeholder keeps the later vertex numbers right.
   void add_unreadable_vertex(std::uint64_t where) {
@@ -109,6 +114,23 @@ class Where {
 };
 
 // ---- OBJ -----------------------------------------------------------------------------------
+
+/// What follows the vertex number of a face corner: "", "/vt", "/vt/vn" or "//vn", where vt and vn
+/// are non-zero integers. Anything else ('1/x/1', '1/2/3/4') is not OBJ and is refused, as the
+/// vertex number itself is.
+bool is_obj_reference_tail(std::string_view tail) {
+  if (tail.empty()) return true;
+  if (tail.front() != '/') return false;
+  tail.remove_prefix(1);
+  const auto is_number = [](std::string_view part) {
+    const auto value = parse_integer(part);
+    return value.has_value() && *value != 0;
+  };
+  const std::size_t slash = tail.find('/');
+  if (slash == std::string_view::npos) return is_number(tail);                  // v/vt
+  const std::string_view texture = tail.substr(0, slash), normal = tail.substr(slash + 1);
+  return (texture.empty() || is_number(texture)) && is_number(normal);           // v/vt/vn, v//vn
+}
 
 void parse_obj(std::string_view text, const Where& at, Soup& soup, ReadDefects& defects) {
   soup.index_base = 1;
@@ -155,7 +177,7 @@ void parse_obj(std::string_view text, const Where& at, Soup& soup, ReadDefects& 
         const std::string_view ref =
             tokens[k].substr(0, tokens[k].find('/'));  // "v/vt/vn": the vertex
         const auto value = parse_integer(ref);
-        if (!value || *value == 0) {
+        if (!value || *value == 0 || !is_obj_reference_tail(tokens[k].substr(ref.size()))) {
           defects.add(DefectKind::Unreadable,
                       at.line(line_number) + "bad vertex reference " + quoted(tokens[k]) +
                           " in a face (OBJ vertex numbers start at 1; negative ones count back)");
@@ -264,7 +286,7 @@ void parse_off(std::string_view text, const Where& at, Soup& soup, ReadDefects& 
                   at.line(line) + "expected face " + std::to_string(f) +
                       " as 'n i_1 ... i_n' (vertex count, then n vertex indices)");
       // Keep the face numbering: an unreadable face is an empty polygon, reported once.
-      soup.add_polygon(line);
+      soup.add_polygon(line, /*unreadable=*/true);
     }
     tokens.skip_line();
   }
@@ -584,7 +606,7 @@ void parse_ply(std::string_view text, Where& at, Soup& soup, ReadDefects& defect
         soup.vertex_where.push_back(where);
       }
       if (is_face)
-        soup.add_polygon(where);  // a malformed face stays as an empty polygon (numbering)
+        soup.add_polygon(where, malformed);  // a malformed face stays as an empty polygon (numbering)
       if (ascii) tokens.skip_line();
     }
   }
@@ -751,7 +773,7 @@ Surface finish(Soup& soup, const Where& at, ReadDefects& defects) {
   for (std::size_t f = 0; f < soup.polygon_count(); ++f) {
     const std::size_t begin = soup.polygon_start[f], end = soup.polygon_start[f + 1];
     auto where = [&] { return at.record(soup.polygon_where[f]) + "face " + std::to_string(f); };
-    if (end == begin) continue;  // unreadable, already reported
+    if (soup.polygon_unreadable[f]) continue;  // already reported
     if (end - begin < 3) {
       defects.add(
           DefectKind::DegenerateFacet,

@@ -19,6 +19,9 @@
 namespace imm::dim3 {
 namespace {
 
+/// The largest absolute coordinate of a 3D input (README, Limits): an OutOfRange defect beyond.
+constexpr double kMaxCoordinate3 = 1e300;
+
 using IK = CGAL::Exact_predicates_inexact_constructions_kernel;
 constexpr const char* kValidateStage = "validate";
 constexpr std::size_t kMaxDefectsPerKind = 20;
@@ -125,7 +128,22 @@ class Validator {
 
   void check_vertices() {
     for (std::uint32_t v = 0; v < nv_; ++v) {
-      if (is_finite(s_.vertices[v])) continue;
+      if (is_finite(s_.vertices[v])) {
+        // The exact steps take any double, but the rays that place nested surfaces are built in
+        // doubles (a point beyond the box, twice its size away): beyond 1e300 they overflowed to
+        // infinity and the exact conversion of it stopped the program (issue 13, found by the
+        // fuzzer at -1e308).
+        const Point3& p = s_.vertices[v];
+        if (std::abs(p[0]) > kMaxCoordinate3 || std::abs(p[1]) > kMaxCoordinate3 || std::abs(p[2]) > kMaxCoordinate3) {
+          out_.add(Defect{DefectKind::OutOfRange,
+                          kValidateStage,
+                          vertex_name(v) + " lies beyond the coordinate range of 3D inputs, |x|, |y|, |z| <= 1e300",
+                          {},
+                          {static_cast<long>(v)},
+                          {coordinates(p)}});
+        }
+        continue;
+      }
       out_.add(Defect{DefectKind::NonFinite,
                       kValidateStage,
                       vertex_name(v) + " has a non-finite coordinate",

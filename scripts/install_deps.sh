@@ -3,7 +3,8 @@
 set -euo pipefail
 packages=(build-essential cmake ccache libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
           libgtest-dev libgmock-dev libbenchmark-dev
-          libcli11-dev nlohmann-json3-dev)
+          libcli11-dev nlohmann-json3-dev
+          python3)
 # Pictures (render/): POV-Ray renders the 3D figures headless, libpng reads PNGs back for the
 # content checks, rsvg-convert makes PNG previews of the 2D SVGs.
 packages+=(povray libpng-dev librsvg2-bin)

@@ -228,9 +228,13 @@ TEST_F(CliTest, LimaconIsNotImmersibleAndTheRuleIsNamed) {
 /// Coordinates the exact steps take but the double-precision background mesher cannot: a clear
 /// exit 2, never a crash (it used to end in a segmentation fault inside the mesher).
 TEST_F(CliTest, HugeAndTinyCoordinatesAreRefusedByTheMesherNotCrashed) {
-  write("huge.txt", "0 0\n1e300 0\n1e300 1e300\n0 1e300\n");
+  write("beyond.txt", "0 0\n1e300 0\n1e300 1e300\n0 1e300\n");
   write("tiny.txt", "0 0\n1e-70 0\n1e-70 1e-70\n0 1e-70\n");
-  for (const char* file : {"huge.txt", "tiny.txt"}) {
+  // Beyond the 2D coordinate range (README, Limits): exit 2 for every command (issue 13).
+  const Outcome beyond = run("immersions beyond.txt");
+  EXPECT_EQ(beyond.code, 2) << beyond.output;
+  EXPECT_CONTAINS(beyond.output, "|x|, |y| <= 1e75");
+  for (const char* file : {"tiny.txt"}) {
     SCOPED_TRACE(file);
     EXPECT_EQ(run(std::string("immersions ") + file).code, 0);  // exact steps are fine
     const Outcome r = run(std::string("mesh ") + file + " -o out.mesh");
