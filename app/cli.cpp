@@ -100,6 +100,9 @@ std::vector<OptionSpec> search_option_specs() {
       {"--max", ValueKind::Integer, "N", "stop after N immersions (default 1)", 1},
       {"--max-states", ValueKind::Integer, "N", "search budget in explored states (default 50000000)", 1},
       {"--time-limit", ValueKind::Real, "S", "search budget in seconds (default none)"},
+      {"--classic-search", ValueKind::Flag, "",
+       "branch on the variable with the fewest options everywhere and grow no sheet by symmetry "
+       "(the search before issue 19; same immersions, often far slower on overlapping parts)"},
   };
 }
 
@@ -163,7 +166,7 @@ std::vector<CommandSpec> make_command_specs() {
   immersions.name = "immersions";
   immersions.usage =
       "immersions IN [--all | --max N] [--max-states N] [--time-limit S]\n"
-      "                         [--json OUT] [--svg DIR] [--no-helper-boxes]";
+      "                         [--json OUT] [--svg DIR] [--no-helper-boxes] [--classic-search]";
   immersions.positional_help = check.positional_help;
   immersions.description =
       "Searches the immersions of IN (paper §6, Algorithm 1): graphs of cell copies satisfying Rules 1-7.\n"
@@ -205,7 +208,7 @@ std::vector<CommandSpec> make_command_specs() {
        1, 100'000},
       {"--background", ValueKind::Text, "FILE",
        "a background mesh instead of the grid: 2D a Medit .mesh (Dimension 2); 3D Vega .veg, Medit "
-       ".mesh, TetGen .node/.ele (it must cover the input and meet it generically, else exit 2)"},
+       ".mesh, TetGen .node/.ele, Gmsh .msh 4.1 (it must cover the input and meet it generically, else exit 2)"},
       {"--conforming", ValueKind::Flag, "", "(2D) insert the input as constraints (no triangle is cut by the input)"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (0-based, in the search's order; default 0)", 0,
        1'000'000},
@@ -215,8 +218,9 @@ std::vector<CommandSpec> make_command_specs() {
        "exact booleans per element, polygon sets in 2D, Nef polyhedra in 3D; the same duplication, much "
        "slower)"},
       {"-o", ValueKind::Text, "OUT",
-       "the mesh: 2D Medit .mesh; 3D Medit .mesh, VTK XML .vtu (ParaView) or Vega .veg; the element "
-       "reference is the graph node"},
+       "the mesh: 2D Medit .mesh; 3D Medit .mesh, VTK XML .vtu (ParaView), Vega .veg, Gmsh .msh 4.1 "
+       "(physical group = graph node + 1) or TetGen .node (+ .ele beside it, region = graph node); the "
+       "element reference is the graph node"},
       {"--embedding", ValueKind::Text, "OUT.emb", "per input vertex: output element and barycentric weights"},
       {"--svg", ValueKind::Text, "OUT.svg", "(2D) the output mesh pulled apart by sheet"},
       {"--threads", ValueKind::Integer, "N", "(3D) threads for the virtual tets (0 = all cores; the output is the same)",
@@ -329,6 +333,8 @@ SearchOptions search_options(const Session& s, const SearchRequest& request) {
   options.max_immersions = request.max_immersions;
   options.max_states = request.max_states;
   options.time_limit_seconds = request.time_limit;
+  options.sheets_first = !request.classic_search;
+  options.continue_sheets = !request.classic_search;
   options.progress = s.progress("search");
   return options;
 }
@@ -777,6 +783,7 @@ std::string parse_search_request(const CommandLine& cl, SearchRequest& request) 
   if (auto n = cl.integer("--max")) request.max_immersions = static_cast<std::size_t>(*n);
   if (auto n = cl.integer("--max-states")) request.max_states = static_cast<std::size_t>(*n);
   if (auto t = cl.real("--time-limit")) request.time_limit = *t;
+  request.classic_search = cl.has("--classic-search");
   return {};
 }
 
