@@ -171,9 +171,16 @@ TEST(Complex3, ThreeOverlappingToriHaveTriplePoints) {
   EXPECT_EQ(winding_volume(c), expected);
 }
 
+BuildOptions3 strict() {
+  BuildOptions3 o;
+  o.strict = true;  // exact contacts are defects (by default resolved: tests/dim3/contacts3_test.cpp)
+  return o;
+}
+
 TEST(Complex3, CoplanarOverlapIsADefect) {
   // Two boxes sharing the plane z = 1 with overlapping faces.
-  const BuildResult3 r = build_complex3(merge(box({0, 0, 0}, {1, 1, 1}), box({0.25, 0.375, 1}, {1.5, 1.5, 2})));
+  const BuildResult3 r =
+      build_complex3(merge(box({0, 0, 0}, {1, 1, 1}), box({0.25, 0.375, 1}, {1.5, 1.5, 2})), strict());
   EXPECT_FALSE(r.report.ok());
   EXPECT_FALSE(r.complex);
   EXPECT_NE(r.report.summary().find("coplanar"), std::string::npos) << r.report.summary();
@@ -183,7 +190,7 @@ TEST(Complex3, VertexTouchingAFaceIsADefect) {
   // An octahedron-like spike: a box whose corner touches the other box's face.
   Surface a = box({0, 0, 0}, {1, 1, 1});
   Surface b = box({1, 0.25, 0.375}, {2, 0.75, 0.625});  // b's face x = 1 lies in a's face plane
-  const BuildResult3 r = build_complex3(merge(a, b));
+  const BuildResult3 r = build_complex3(merge(a, b), strict());
   EXPECT_FALSE(r.report.ok());
   EXPECT_FALSE(r.complex);
 }
