@@ -114,7 +114,7 @@ inline void write(const FigureArgs& args, const std::string& file, const std::st
 inline void expect(bool ok, const std::string& what) {
   if (!ok) throw std::runtime_error("figure check failed: " + what);
   auto& facts = record().facts;
-  if (std::find(facts.begin(), facts.end(), what) == facts.end()) facts.push_back(what);
+  if (!what.empty() && std::find(facts.begin(), facts.end(), what) == facts.end()) facts.push_back(what);
 }
 
 /// Renders a 3D scene into `<out>/<file>` (PNG) with POV-Ray and checks it is not blank.
