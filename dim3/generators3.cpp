@@ -903,6 +903,65 @@ Surface random_blobs(int blobs, std::uint64_t seed, int n) {
   });
 }
 
+namespace {
+
+/// `part` scaled by `scale` about the origin.
+Surface scaled(Surface part, double scale) {
+  for (Point3& p : part.vertices) p = times(scale, p);
+  return part;
+}
+
+/// Appends `part` with a random rotation about the origin, then moved to a random centre in
+/// [lo, hi) (per coordinate).
+void append_randomly(Surface& out, const Surface& part, Random& random, const Point3& lo,
+                     const Point3& hi) {
+  const Point3 axis = random.direction();
+  const double angle = random.uniform(0, 2 * kPi);
+  const Point3 centre{random.uniform(lo[0], hi[0]), random.uniform(lo[1], hi[1]),
+                      random.uniform(lo[2], hi[2])};
+  append(out, part, rotation(axis, angle, centre));
+}
+
+}  // namespace
+
+Surface spheres_pile(int count, std::uint64_t seed, int n) {
+  IMM_ASSERT(count >= 1 && n >= 3, "spheres_pile needs count >= 1, n >= 3");
+  const Surface ball = scaled(unit_sphere(n), 0.5);
+  return first_generic(seed, [&](Random& random) {
+    Surface out;
+    for (int k = 0; k < count; ++k) append_randomly(out, ball, random, {0, 0, 0}, {0.6, 0.6, 0.6});
+    return out;
+  });
+}
+
+Surface tori_pile(int count, std::uint64_t seed, int n) {
+  IMM_ASSERT(count >= 1 && n >= 6, "tori_pile needs count >= 1, n >= 6");
+  const Surface ring = revolve_closed(
+      [](double s) {
+        const double a = 2 * kPi * s;
+        return std::array<double, 2>{0.5 + 0.18 * std::cos(a), 0.18 * std::sin(a)};
+      },
+      n / 2, n);
+  return first_generic(seed, [&](Random& random) {
+    Surface out;
+    for (int k = 0; k < count; ++k) append_randomly(out, ring, random, {0, 0, 0}, {0.6, 0.6, 0.6});
+    return out;
+  });
+}
+
+Surface helix_in_spheres(int count, std::uint64_t seed, int loops, int n) {
+  IMM_ASSERT(count >= 0 && loops >= 1 && n >= 3, "helix_in_spheres needs loops >= 1, n >= 3");
+  const Surface coil = helix(loops, 12);
+  const Surface ball = scaled(unit_sphere(n), 0.5);
+  return first_generic(seed, [&](Random& random) {
+    Surface out = coil;
+    for (int k = 0; k < count; ++k) {
+      append_randomly(out, ball, random, {-1, -1, 0}, {1, 1, 0.4 * loops});
+    }
+    return out;
+  });
+}
+
 Surface perturbed_torus(int n, std::uint64_t seed) {
   IMM_ASSERT(n >= 12, "perturbed_torus needs n >= 12");
   return first_generic(seed, [&](Random& random) {
@@ -1284,6 +1343,44 @@ const std::vector<Entry>& entries() {
                   "at least 1 immersion"},
                  [](const std::vector<long>& p) {
                    return perturbed_torus(as_int(p[0]), static_cast<std::uint64_t>(p[1]));
+                 },
+                 [](const std::vector<long>&) {
+                   ExpectedSurfaceCounts c;
+                   c.at_least_one = true;
+                   return c;
+                 }});
+    const auto pile = [&](std::string name, std::string description, std::string part,
+                          long k, long n, long n_min, Surface (*make)(int, std::uint64_t, int)) {
+      e.push_back({{std::move(name),
+                    std::move(description),
+                    {{"k", std::move(part), k, 1, 10000},
+                     {"seed", "random seed", 1, 0, kMaxSeed},
+                     {"n", "resolution of each part", n, n_min, 200}},
+                    -1,
+                    "at least 1 immersion (the parts' solids)"},
+                   [make](const std::vector<long>& p) {
+                     return make(as_int(p[0]), static_cast<std::uint64_t>(p[1]), as_int(p[2]));
+                   },
+                   [](const std::vector<long>&) {
+                     ExpectedSurfaceCounts c;
+                     c.at_least_one = true;
+                     return c;
+                   }});
+    };
+    pile("spheres-pile", "K spheres of radius 0.5, centres in a cube of side 0.6 (seeded)",
+         "spheres", 12, 8, 3, spheres_pile);
+    pile("tori-pile", "K tori (radii 0.5, 0.18), random axes, centres in a cube of side 0.6",
+         "tori", 6, 16, 6, tori_pile);
+    e.push_back({{"helix-spheres",
+                  "helix (Fig. 13 tube, L loops) inside a pile of K spheres of radius 0.5",
+                  {{"k", "spheres", 8, 0, 10000},
+                   {"seed", "random seed", 1, 0, kMaxSeed},
+                   {"loops", "helix loops", 2, 1, 100}},
+                  -1,
+                  "at least 1 immersion (the helix tube's and the balls' solids)"},
+                 [](const std::vector<long>& p) {
+                   return helix_in_spheres(as_int(p[0]), static_cast<std::uint64_t>(p[1]),
+                                           as_int(p[2]));
                  },
                  [](const std::vector<long>&) {
                    ExpectedSurfaceCounts c;
