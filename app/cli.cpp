@@ -191,7 +191,7 @@ std::vector<CommandSpec> make_command_specs() {
        1, 100'000},
       {"--background", ValueKind::Text, "FILE",
        "a background mesh instead of the grid: 2D a Medit .mesh (Dimension 2); 3D Vega .veg, Medit "
-       ".mesh, TetGen .node/.ele (it must cover the input and meet it generically, else exit 2)"},
+       ".mesh, TetGen .node/.ele, Gmsh .msh 4.1 (it must cover the input and meet it generically, else exit 2)"},
       {"--conforming", ValueKind::Flag, "", "(2D) insert the input as constraints (no triangle is cut by the input)"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (0-based, in the search's order; default 0)", 0,
        1'000'000},
@@ -201,8 +201,9 @@ std::vector<CommandSpec> make_command_specs() {
        "exact booleans per element, polygon sets in 2D, Nef polyhedra in 3D; the same duplication, much "
        "slower)"},
       {"-o", ValueKind::Text, "OUT",
-       "the mesh: 2D Medit .mesh; 3D Medit .mesh, VTK XML .vtu (ParaView) or Vega .veg; the element "
-       "reference is the graph node"},
+       "the mesh: 2D Medit .mesh; 3D Medit .mesh, VTK XML .vtu (ParaView), Vega .veg, Gmsh .msh 4.1 "
+       "(physical group = graph node + 1) or TetGen .node (+ .ele beside it, region = graph node); the "
+       "element reference is the graph node"},
       {"--embedding", ValueKind::Text, "OUT.emb", "per input vertex: output element and barycentric weights"},
       {"--svg", ValueKind::Text, "OUT.svg", "(2D) the output mesh pulled apart by sheet"},
       {"--threads", ValueKind::Integer, "N", "(3D) threads for the virtual tets (0 = all cores; the output is the same)",

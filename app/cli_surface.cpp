@@ -400,6 +400,7 @@ std::string format_tet_mesh(const std::string& path, const dim3::TetMesh& mesh) 
   const std::string ext = extension_of(path);
   if (ext == ".vtu") return dim3::format_vtu(mesh);
   if (ext == ".veg") return dim3::format_veg(mesh);
+  if (ext == ".msh") return dim3::format_gmsh(mesh);
   return dim3::format_medit_3d(mesh);
 }
 
@@ -443,12 +444,13 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     if (cl.has(option)) return usage_error(s.env(), "mesh", std::string(option) + " is for 2D curves only");
   if (auto path = cl.value("-o")) {
     const std::string ext = extension_of(*path);
-    if (ext != ".mesh" && ext != ".vtu" && ext != ".veg")
-      return usage_error(s.env(), "mesh", "-o " + *path + ": a tet mesh is written as .mesh, .vtu or .veg");
+    if (ext != ".mesh" && ext != ".vtu" && ext != ".veg" && ext != ".msh" && ext != ".node")
+      return usage_error(s.env(), "mesh",
+                         "-o " + *path + ": a tet mesh is written as .mesh, .vtu, .veg, .msh or .node (+ .ele)");
   }
   if (options.background_path && !dim3::is_tet_mesh_extension(*options.background_path))
     return usage_error(s.env(), "mesh", "--background " + *options.background_path +
-                                            ": expected a .veg, .mesh, .node or .ele tet mesh");
+                                            ": expected a .veg, .mesh, .node, .ele or .msh tet mesh");
   s.enable_summary();
   PreparedSurface p;
   p.path = cl.positional[0];
@@ -526,7 +528,16 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     Json& outputs = (entry["outputs"] = Json::object());
     if (auto path = cl.value("-o")) {
       const std::string out = all ? numbered(*path, i) : *path;
-      if (!s.write(out, format_tet_mesh(out, m.mesh), "the tet mesh (reference = graph node)")) return kExitInternalError;
+      if (extension_of(out) == ".node") {
+        // TetGen: two files, OUT.node and OUT.ele (region attribute = graph node).
+        const dim3::TetGenTexts texts = dim3::format_tetgen(m.mesh);
+        const auto [node_path, ele_path] = dim3::tetgen_paths(out);
+        if (!s.write(node_path, texts.node, "the tet mesh's vertices (TetGen)") ||
+            !s.write(ele_path, texts.ele, "the tet mesh's tets (TetGen, region = graph node)"))
+          return kExitInternalError;
+      } else if (!s.write(out, format_tet_mesh(out, m.mesh), "the tet mesh (reference = graph node)")) {
+        return kExitInternalError;
+      }
       outputs["mesh"] = out;
     }
     if (auto path = cl.value("--embedding")) {
