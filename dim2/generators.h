@@ -25,31 +25,19 @@
 #include <string_view>
 #include <vector>
 
+#include "core/generator_registry.h"
 #include "dim2/curves.h"
 
 namespace imm::dim2 {
 
-// ---- the registry (`immerse generate --list`) ------------------------------------------------
+// ---- the registry (`immerse generate --list`; core/generator_registry.h) -----------------------
 
-/// One integer parameter of a generator.
-struct GeneratorParameter {
-  std::string name;
-  std::string description;
-  long default_value = 0;
-  long min_value = 0;
-  long max_value = 0;
-};
+using GeneratorParameter = imm::GeneratorParameter;
+using GeneratorInfo = imm::GeneratorInfo;
+using CurveGeneratorSummary = imm::GeneratorSummary;
 
-struct GeneratorInfo {
-  std::string name;         ///< "fig6", "doodle", ...
-  std::string description;  ///< one line
-  std::vector<GeneratorParameter> parameters;
-  /// Known number of (pairwise non-isomorphic, simple) immersions for the default parameters:
-  /// 0 = none (exit 3), -1 = not stated (random inputs).
-  int expected_immersions = -1;
-  /// A short note on the known answer ("Catalan(K) immersions", "inversion", ...).
-  std::string expected_note;
-};
+/// Every curve generator, in the order `--list` prints them (dim2/generator_registry.cpp).
+const GeneratorRegistry<CurveSet>& curve_registry();
 
 /// Every generator, in the order `--list` prints them.
 const std::vector<GeneratorInfo>& generator_registry();
@@ -67,16 +55,10 @@ struct GenerateResult {
 /// ("3") or "name=value"; missing ones take their defaults.
 GenerateResult generate(std::string_view name, const std::vector<std::string>& arguments);
 
-/// The registry in the shape the command line prints it (`immerse generate --list`): name,
-/// parameter synopsis ("K=2", "N=20 SEED=1") and the description with the known answer.
-struct CurveGeneratorSummary {
-  std::string name;
-  std::string params;
-  std::string description;
-};
+/// The registry in the shape the command line prints it (`immerse generate --list`).
 std::vector<CurveGeneratorSummary> curve_generators();
 
-/// Same as generate(); the name used by core/cli.cpp.
+/// Same as generate(); the name used by the command line.
 GenerateResult generate_curves(const std::string& name, const std::vector<std::string>& arguments);
 
 // ---- the paper's figures -------------------------------------------------------------------

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -210,9 +211,12 @@ TEST(Generators, NamedCurvesHaveTheirDesignedComplexAndImmersionCounts) {
     const SearchResult r = all_immersions(cc);
     EXPECT_EQ(r.status, e.status) << r.conflict.message;
     EXPECT_EQ(static_cast<int>(r.immersions.size()), e.immersions);
-    if (const GeneratorInfo* info = find_generator(e.name);
-        info && e.args.empty() && info->expected_immersions >= 0) {
-      EXPECT_EQ(info->expected_immersions, e.immersions) << "registry states another count";
+    // The known answer `--list` prints, where it states a number, is the one found here.
+    if (const GeneratorInfo* info = find_generator(e.name); info && e.args.empty() &&
+                                                            !info->expected_note.empty() &&
+                                                            std::isdigit(info->expected_note[0])) {
+      EXPECT_EQ(info->expected_note.rfind(std::to_string(e.immersions) + " immersion", 0), 0u)
+          << "registry states another count: " << info->expected_note;
     }
   }
 }
