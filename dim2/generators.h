@@ -58,7 +58,7 @@ GenerateResult generate(std::string_view name, const std::vector<std::string>& a
 /// The registry in the shape the command line prints it (`immerse generate --list`).
 std::vector<CurveGeneratorSummary> curve_generators();
 
-/// Same as generate(); the name used by the command line.
+/// Same as generate(); the name used by app/cli.cpp.
 GenerateResult generate_curves(const std::string& name, const std::vector<std::string>& arguments);
 
 // ---- the paper's figures -------------------------------------------------------------------

@@ -2,7 +2,8 @@
 # Installs the Debian packages the project needs, only those that are missing (idempotent, quiet).
 set -euo pipefail
 packages=(build-essential cmake ccache libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
-          libgtest-dev libgmock-dev libbenchmark-dev)
+          libgtest-dev libgmock-dev libbenchmark-dev
+          libcli11-dev nlohmann-json3-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -19,14 +19,9 @@
 #include <string>
 #include <vector>
 
-namespace imm {
+#include "core/exit_codes.h"
 
-/// Exit codes (DESIGN §3; documented in `immerse --help`).
-inline constexpr int kExitOk = 0;              ///< success (and, for `immersions`/`mesh`, immersible)
-inline constexpr int kExitInternalError = 1;   ///< a bug (InvariantError) or an output that could not be written
-inline constexpr int kExitInvalidInput = 2;    ///< the input is defective (every defect is listed)
-inline constexpr int kExitNotImmersible = 3;   ///< valid input, no (simple) immersion, or search budget exhausted
-inline constexpr int kExitUsage = 64;          ///< bad command line (EX_USAGE of sysexits.h)
+namespace imm {
 
 /// Where `run_cli` prints, and whether progress messages are wanted (stderr is a terminal).
 struct CliEnvironment {

@@ -1,4 +1,4 @@
-// Internal to the `immerse` command line (core/cli.cpp, core/cli_surface.cpp): the pieces both
+// Internal to the `immerse` command line (app/cli.cpp, app/cli_surface.cpp): the pieces both
 // dimensions' commands share. Not a library API: nothing outside the `immerse` target includes it.
 //
 //  - Session: timings per stage, the one-line summary, atomic writes and the list of written files;
@@ -25,13 +25,18 @@
 
 #include "core/atomic_file.h"
 #include "core/cell_complex.h"
-#include "core/cli.h"
+#include "app/cli.h"
+#include "app/command_line.h"
 #include "core/diagnostics.h"
 #include "core/graph_search.h"
-#include "core/report_json.h"
 #include "dim3/mesh3.h"
 
+#include <nlohmann/json.hpp>
+
 namespace imm::cli {
+
+/// Every JSON the program writes: keys in insertion order (DESIGN §3).
+using Json = nlohmann::ordered_json;
 
 using Clock = std::chrono::steady_clock;
 
@@ -53,23 +58,6 @@ std::string plural(std::size_t n, const std::string& word, const std::string& wo
 std::string format_ms(double seconds);
 
 // ---- the command line --------------------------------------------------------------------------
-
-/// A parsed command line: positional arguments, options with values, flags.
-struct CommandLine {
-  std::vector<std::string> positional;
-  std::map<std::string, std::string> values;
-  std::set<std::string> flags;
-  bool help = false;
-
-  [[nodiscard]] bool has(const std::string& name) const {
-    return flags.count(name) != 0 || values.count(name) != 0;
-  }
-  [[nodiscard]] std::optional<std::string> value(const std::string& name) const {
-    const auto it = values.find(name);
-    if (it == values.end()) return std::nullopt;
-    return it->second;
-  }
-};
 
 /// Prints "immerse COMMAND: message", the command's usage line and a pointer to its --help.
 /// @return kExitUsage.
@@ -123,7 +111,7 @@ class Session {
   }
   [[nodiscard]] Json timings_json() const {
     Json t = Json::object();
-    for (const auto& [name, total] : stages_) t.set(name, total * 1e3);
+    for (const auto& [name, total] : stages_) (t[name] = total * 1e3);
     return t;
   }
 
@@ -235,56 +223,56 @@ struct ComplexJsonHooks {
 /// cyclic order and the four wedges: wedge k between junction k and k+1).
 template <int D>
 void add_complex_json(Json& j, const CellComplex<D>& complex, const ComplexJsonHooks& hooks) {
-  Json& regions = j.set("regions", Json::array());
+  Json& regions = (j["regions"] = Json::array());
   for (RegionId r : ids<RegionId>(complex.region_count())) {
-    Json& o = regions.push(Json::object());
-    o.set("id", r.value());
-    o.set("winding", complex.winding_number(r));
-    o.set("cell", cell_id_json(complex.cell_of(r)));
-    o.set("simply_connected", complex.is_simply_connected(r));
+    Json& o = regions.emplace_back(Json::object());
+    o["id"] = r.value();
+    o["winding"] = complex.winding_number(r);
+    o["cell"] = cell_id_json(complex.cell_of(r));
+    o["simply_connected"] = complex.is_simply_connected(r);
     if (hooks.region) hooks.region(o, r);
   }
-  Json& cells = j.set("cells", Json::array());
+  Json& cells = (j["cells"] = Json::array());
   for (CellId c : ids<CellId>(complex.cell_count())) {
-    Json& o = cells.push(Json::object());
-    o.set("id", c.value());
-    o.set("region", complex.region_of(c).value());
-    o.set("winding", complex.winding_number(c));
-    Json& b = o.set("b_patches", Json::array());
+    Json& o = cells.emplace_back(Json::object());
+    o["id"] = c.value();
+    o["region"] = complex.region_of(c).value();
+    o["winding"] = complex.winding_number(c);
+    Json& b = (o["b_patches"] = Json::array());
     for (const BPatch& bp : complex.b_patches(c)) {
-      Json& e = b.push(Json::object());
-      e.set("patch", bp.patch.value());
-      e.set("agrees", bp.agrees);
+      Json& e = b.emplace_back(Json::object());
+      e["patch"] = bp.patch.value();
+      e["agrees"] = bp.agrees;
     }
-    Json& touching = o.set("self_touching_arcs", Json::array());
-    for (ArcId a : complex.self_touching_arcs(c)) touching.push(a.value());
+    Json& touching = (o["self_touching_arcs"] = Json::array());
+    for (ArcId a : complex.self_touching_arcs(c)) touching.emplace_back(a.value());
   }
-  Json& patches = j.set("patches", Json::array());
+  Json& patches = (j["patches"] = Json::array());
   for (PatchId p : ids<PatchId>(complex.patch_count())) {
-    Json& o = patches.push(Json::object());
-    o.set("id", p.value());
-    o.set("positive_region", complex.sides(p).positive.value());
-    o.set("negative_region", complex.sides(p).negative.value());
-    o.set("inner_cell", cell_id_json(complex.inner_cell(p)));
-    o.set("outer_cell", cell_id_json(complex.outer_cell(p)));
+    Json& o = patches.emplace_back(Json::object());
+    o["id"] = p.value();
+    o["positive_region"] = complex.sides(p).positive.value();
+    o["negative_region"] = complex.sides(p).negative.value();
+    o["inner_cell"] = cell_id_json(complex.inner_cell(p));
+    o["outer_cell"] = cell_id_json(complex.outer_cell(p));
     if (hooks.patch) hooks.patch(o, p);
-    Json& arcs = o.set("arcs", Json::array());
-    for (ArcId a : complex.arcs_of(p)) arcs.push(a.value());
+    Json& arcs = (o["arcs"] = Json::array());
+    for (ArcId a : complex.arcs_of(p)) arcs.emplace_back(a.value());
   }
-  Json& arcs = j.set("arcs", Json::array());
+  Json& arcs = (j["arcs"] = Json::array());
   for (ArcId a : ids<ArcId>(complex.arc_count())) {
     const ArcJunctions& junctions = complex.arc(a);
-    Json& o = arcs.push(Json::object());
-    o.set("id", a.value());
+    Json& o = arcs.emplace_back(Json::object());
+    o["id"] = a.value();
     if (hooks.arc) hooks.arc(o, a);
-    Json& order = o.set(hooks.junction_key, Json::array());
-    for (PatchId p : junctions.patch) order.push(p.value());
-    Json& wedges = o.set("wedge_regions", Json::array());
-    for (RegionId r : junctions.wedge) wedges.push(r.value());
+    Json& order = (o[hooks.junction_key] = Json::array());
+    for (PatchId p : junctions.patch) order.emplace_back(p.value());
+    Json& wedges = (o["wedge_regions"] = Json::array());
+    for (RegionId r : junctions.wedge) wedges.emplace_back(r.value());
   }
 }
 
-// ---- 3D commands (core/cli_surface.cpp) -------------------------------------------------------
+// ---- 3D commands (app/cli_surface.cpp) -------------------------------------------------------
 
 /// True when the file is a 3D surface: .off/.ply/.stl, or an OBJ with faces and no 'l' lines.
 bool is_surface_file(const std::string& path);

@@ -1,4 +1,4 @@
-// `immerse`: see core/cli.h. The only program linking every dimension.
+// `immerse`: see app/cli.h. The only program linking every dimension.
 #include <unistd.h>
 
 #include <exception>
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/cli.h"
+#include "app/cli.h"
 #include "core/diagnostics.h"
 
 int main(int argc, char** argv) {

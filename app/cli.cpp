@@ -1,4 +1,4 @@
-// The `immerse` command line (DESIGN §3). See core/cli.h for the command list and exit codes.
+// The `immerse` command line (DESIGN §3). See app/cli.h for the command list and exit codes.
 //
 // This layer owns everything user-facing: parsing, messages, exit codes, JSON/SVG reports and
 // the one-line timing summary. The library calls below never print; they return reports and
@@ -9,9 +9,9 @@
 // Every output goes through write_file_atomic: complete or absent, never half-written.
 //
 // This file holds the parsing, the help texts, the 2D commands and the pieces both dimensions
-// share (declared in core/cli_common.h); the commands dispatch to core/cli_surface.cpp when the
+// share (declared in app/cli_common.h); the commands dispatch to app/cli_surface.cpp when the
 // input is a 3D surface (is_surface_file) or the generator name is a 3D one.
-#include "core/cli.h"
+#include "app/cli.h"
 
 #include <algorithm>
 #include <charconv>
@@ -33,10 +33,9 @@
 #include <variant>
 
 #include "core/atomic_file.h"
-#include "core/cli_common.h"
+#include "app/cli_common.h"
 #include "core/diagnostics.h"
 #include "core/graph_search.h"
-#include "core/report_json.h"
 #include "dim2/complex2.h"
 #include "dim2/curves.h"
 #include "dim2/generators.h"
@@ -89,208 +88,172 @@ A one-line timing summary is always printed on stderr, progress messages too whe
 terminal. Outputs are written to '<path>.tmp.<pid>' and renamed: never a partial file.
 )";
 
-constexpr const char* kCheckHelp = R"(usage: immerse check IN
+// ---- the commands' options (parsed by CLI11, app/command_line.h) --------------------------------
 
-Reads IN and validates it, then builds its cell complex.
-2D curves: empty input, non-finite coordinates, curves with fewer than three vertices, repeated
-consecutive vertices, open OBJ curves, collinear overlaps, a vertex touching another segment,
-three or more segments through one point.
-3D surfaces (OBJ, OFF, PLY, STL): unreadable or empty files, non-finite coordinates, open
-boundary, non-manifold edges or vertices, inconsistent orientation, degenerate triangles,
-duplicate vertices or faces; coplanar overlapping triangles, surfaces touching without crossing,
-intersections through vertices or edges (non-generic input the paper excludes). A valid surface
-prints its triangles, components, intersecting triangle pairs, cells and maximum winding number.
-Every defect is printed with its curve/segment or triangle ids and vertex ids (0-based, file
-order; polygon faces are fan-triangulated in order) and coordinates.
-Exit code 0 when the input is valid (an inverted region is reported as a note: the input is
-valid but not immersible, see 'immerse immersions'), 2 when it is not, 64 on a bad command line.
-)";
+constexpr const char* kExitCodesFooter =
+    "Exit codes: 0 ok, 1 internal error or unwritable output, 2 invalid input, 3 not immersible,\n"
+    "64 bad command line.\n";
 
-constexpr const char* kCellsHelp = R"(usage: immerse cells IN [--json OUT] [--cut-mesh OUT.obj]
+std::vector<OptionSpec> search_option_specs() {
+  return {
+      {"--all", ValueKind::Flag, "", "enumerate every immersion (pairwise non-isomorphic)"},
+      {"--max", ValueKind::Integer, "N", "stop after N immersions (default 1)", 1},
+      {"--max-states", ValueKind::Integer, "N", "search budget in explored states (default 50000000)", 1},
+      {"--time-limit", ValueKind::Real, "S", "search budget in seconds (default none)"},
+  };
+}
 
-Builds the exact cell complex of IN (paper §4) and prints its counts and a table of the cells.
-IN is a 2D curve file or a 3D surface (OBJ, OFF, PLY, STL).
-  --json OUT   write the complex as JSON: counts; per region its winding number, exact measure
-               and simple connectivity (2D: "area" as a rational "p/q" and "area_double"; 3D:
-               "volume" as a double, "volume_exact" as a rational "p/q", and the genus of its
-               boundary); per cell its B-patches and their agreement; per patch its
-               positive/negative regions (3D: and its triangle count); per arc its four junction
-               patches in cyclic order (2D: counter-clockwise around the crossing point; 3D:
-               around the intersection curve) and the four wedges (wedge k lies between junction
-               k and k+1); timings in milliseconds.
-  --cut-mesh OUT.obj   (3D) the surface cut along its self-intersection curves, one OBJ group
-               per patch, for viewers.
-Exit codes: 0 ok, 2 invalid input, 3 inverted region, 64 bad command line, 1 internal error.
-)";
+std::vector<CommandSpec> make_command_specs() {
+  std::vector<CommandSpec> specs;
 
-constexpr const char* kImmersionsHelp = R"(usage: immerse immersions IN [--all | --max N] [--max-states N] [--time-limit S]
-                           [--json OUT] [--svg DIR] [--no-helper-boxes]
+  CommandSpec check;
+  check.name = "check";
+  check.usage = "check IN";
+  check.positional_help = "a 2D curve file (text, SVG, OBJ lines) or a 3D surface (OBJ, OFF, PLY, STL)";
+  check.description =
+      "Reads IN and validates it, then builds its cell complex.\n"
+      "2D curves: empty input, non-finite coordinates, curves with fewer than three vertices, repeated\n"
+      "consecutive vertices, open OBJ curves, collinear overlaps, a vertex touching another segment,\n"
+      "three or more segments through one point.\n"
+      "3D surfaces (OBJ, OFF, PLY, STL): unreadable or empty files, non-finite coordinates, open\n"
+      "boundary, non-manifold edges or vertices, inconsistent orientation, degenerate triangles,\n"
+      "duplicate vertices or faces; coplanar overlapping triangles, surfaces touching without crossing,\n"
+      "intersections through vertices or edges (non-generic input the paper excludes). A valid surface\n"
+      "prints its triangles, components, intersecting triangle pairs, cells and maximum winding number.\n"
+      "Every defect is printed with its curve/segment or triangle ids and vertex ids (0-based, file\n"
+      "order; polygon faces are fan-triangulated in order) and coordinates.\n";
+  check.footer =
+      "Exit code 0 when the input is valid (an inverted region is reported as a note: the input is\n"
+      "valid but not immersible, see 'immerse immersions'), 2 when it is not, 64 on a bad command line.\n";
+  specs.push_back(check);
 
-Searches the immersions of IN (paper §6, Algorithm 1): graphs of cell copies satisfying Rules 1-7.
-IN is a 2D curve file or a 3D surface (OBJ, OFF, PLY, STL). In 3D, a cell that may be
-self-connecting (paper §5.1) is cut by a helper box added to the input (§6.2) and the search is
-run again; the boxes used are listed.
-  --all            enumerate every immersion (pairwise non-isomorphic)
-  --max N          stop after N immersions (N >= 1; default 1)
-  --max-states N   search budget in explored states (N >= 1; default 50000000)
-  --time-limit S   search budget in seconds (S > 0; default none)
-  --json OUT       status, count, completeness, search statistics and, per immersion, its nodes
-                   (id, cell, copy), edges (inner, outer, patch) and the owner node of every patch
-  --svg DIR        (2D) one drawing per immersion, DIR/immersion_K.svg (K = 0, 1, ...)
-  --no-helper-boxes  (3D) no helper boxes: a possibly self-connecting cell is the verdict
-Exit codes: 0 immersible, 3 not immersible / inverted / self-connecting cell / budget exhausted
-(the JSON is written in every case), 2 invalid input, 64 bad command line, 1 internal error.
-)";
+  CommandSpec cells;
+  cells.name = "cells";
+  cells.usage = "cells IN [--json OUT] [--cut-mesh OUT.obj]";
+  cells.positional_help = check.positional_help;
+  cells.description =
+      "Builds the exact cell complex of IN (paper §4) and prints its counts and a table of the cells.\n";
+  cells.options = {
+      {"--json", ValueKind::Text, "OUT",
+       "write the complex as JSON: counts; per region its winding number, exact measure and simple "
+       "connectivity (2D: \"area\" as a rational \"p/q\" and \"area_double\"; 3D: \"volume\" as a double, "
+       "\"volume_exact\" as a rational \"p/q\", and the genus of its boundary); per cell its B-patches and "
+       "their agreement; per patch its positive/negative regions (3D: and its triangle count); per arc its "
+       "four junction patches in cyclic order (2D: counter-clockwise around the crossing point; 3D: around "
+       "the intersection curve) and the four wedges (wedge k lies between junction k and k+1); timings in "
+       "milliseconds"},
+      {"--cut-mesh", ValueKind::Text, "OUT.obj",
+       "(3D) the surface cut along its self-intersection curves, one OBJ group per patch, for viewers"},
+  };
+  cells.footer = "Exit codes: 0 ok, 2 invalid input, 3 inverted region, 64 bad command line, 1 internal error.\n";
+  specs.push_back(cells);
 
-constexpr const char* kMeshHelp = R"(usage: immerse mesh IN [--resolution N | --background FILE] [--conforming]
-                     [--immersion K | --all] [--method clip] [-o OUT] [--embedding OUT.emb]
-                     [--svg OUT.svg] [--threads N] [--json OUT]
+  CommandSpec immersions;
+  immersions.name = "immersions";
+  immersions.usage =
+      "immersions IN [--all | --max N] [--max-states N] [--time-limit S]\n"
+      "                         [--json OUT] [--svg DIR] [--no-helper-boxes]";
+  immersions.positional_help = check.positional_help;
+  immersions.description =
+      "Searches the immersions of IN (paper §6, Algorithm 1): graphs of cell copies satisfying Rules 1-7.\n"
+      "In 3D, a cell that may be self-connecting (paper §5.1) is cut by a helper box added to the input\n"
+      "(§6.2) and the search is run again; the boxes used are listed.\n";
+  immersions.options = search_option_specs();
+  immersions.options.push_back(
+      {"--json", ValueKind::Text, "OUT",
+       "status, count, completeness, search statistics and, per immersion, its nodes (id, cell, copy), "
+       "edges (inner, outer, patch) and the owner node of every patch"});
+  immersions.options.push_back(
+      {"--svg", ValueKind::Text, "DIR", "(2D) one drawing per immersion, DIR/immersion_K.svg (K = 0, 1, ...)"});
+  immersions.options.push_back(
+      {"--no-helper-boxes", ValueKind::Flag, "", "(3D) no helper boxes: a possibly self-connecting cell is the verdict"});
+  immersions.footer =
+      "Exit codes: 0 immersible, 3 not immersible / inverted / self-connecting cell / budget exhausted\n"
+      "(the JSON is written in every case), 2 invalid input, 64 bad command line, 1 internal error.\n";
+  specs.push_back(immersions);
 
-Meshes one immersion of IN (paper §7): a background mesh, virtual elements where the input cuts
-an element (exact clipping), one copy per graph node, copies fused across graph edges, so that
-overlapping and nearly touching parts are not glued.
-2D (curves): triangles.
-  --resolution N        background edges across the bounding-box diagonal (N >= 1; default 24)
-  --background FILE     use this Medit .mesh (Dimension 2) as the background instead
-  --conforming          insert the input as constraints (no triangle is cut by the input)
-  --svg OUT.svg         the output mesh pulled apart by sheet
-  -o OUT.mesh           Medit; each triangle's reference = its graph node
-3D (surfaces): tets.
-  --resolution N        grid cubes (6 Kuhn tets each) along the longest side of the input's box
-                        (1..150; default 16); the grid is shifted and retried when it touches
-                        the input non-generically
-  --background FILE     a tet mesh instead: Vega .veg, Medit .mesh, TetGen .node/.ele (it must
-                        cover the input and meet it generically, else exit 2)
-  --all                 mesh every immersion: OUT_K.ext and OUT_K.emb for immersion K
-  --threads N           threads for the virtual tets (0 = all cores; the output is the same)
-  --no-helper-boxes     do not cut self-connecting cells (helper-box tets are otherwise dropped)
-  -o OUT.mesh|.vtu|.veg Medit (reference = graph node), VTK XML for ParaView, or Vega
-Both:
-  --immersion K         which immersion (0-based, in the search's order; default 0)
-  --method clip|csg     the paper's exact clipping (default), or the CSG baseline it compares with
-                        (Sifakis et al. 2007: exact booleans per element, polygon sets in 2D,
-                        Nef polyhedra in 3D; the same duplication, much slower)
-  --max-states N, --time-limit S   search budgets, as for 'immerse immersions'
-  --embedding OUT.emb   per input vertex: output element and barycentric weights
-  --json OUT            counts (background, cut and output elements, vertices, copies per cell)
-                        and timings
-Exit codes: 0 ok, 2 invalid input or a background not covering the input (or touching it
-non-generically), 3 not immersible, 64 bad command line (also: --immersion K beyond the
-immersions found), 1 internal error.
-)";
+  CommandSpec mesh;
+  mesh.name = "mesh";
+  mesh.usage =
+      "mesh IN [--resolution N | --background FILE] [--conforming]\n"
+      "                   [--immersion K | --all] [--method clip|csg] [-o OUT] [--embedding OUT.emb]\n"
+      "                   [--svg OUT.svg] [--threads N] [--json OUT]";
+  mesh.positional_help = check.positional_help;
+  mesh.description =
+      "Meshes one immersion of IN (paper §7): a background mesh, virtual elements where the input cuts\n"
+      "an element (exact clipping), one copy per graph node, copies fused across graph edges, so that\n"
+      "overlapping and nearly touching parts are not glued. 2D (curves): triangles. 3D (surfaces): tets.\n";
+  mesh.options = {
+      {"--resolution", ValueKind::Integer, "N",
+       "2D: background edges across the bounding-box diagonal (default 24). 3D: grid cubes (6 Kuhn tets "
+       "each) along the longest side of the input's box (at most 150; default 16); the grid is shifted "
+       "and retried when it touches the input non-generically",
+       1, 100'000},
+      {"--background", ValueKind::Text, "FILE",
+       "a background mesh instead of the grid: 2D a Medit .mesh (Dimension 2); 3D Vega .veg, Medit "
+       ".mesh, TetGen .node/.ele (it must cover the input and meet it generically, else exit 2)"},
+      {"--conforming", ValueKind::Flag, "", "(2D) insert the input as constraints (no triangle is cut by the input)"},
+      {"--immersion", ValueKind::Integer, "K", "which immersion (0-based, in the search's order; default 0)", 0,
+       1'000'000},
+      {"--all", ValueKind::Flag, "", "(3D) mesh every immersion: OUT_K.ext and OUT_K.emb for immersion K"},
+      {"--method", ValueKind::Text, "clip|csg",
+       "the paper's exact clipping (default), or the CSG baseline it compares with (Sifakis et al. 2007: "
+       "exact booleans per element, polygon sets in 2D, Nef polyhedra in 3D; the same duplication, much "
+       "slower)"},
+      {"-o", ValueKind::Text, "OUT",
+       "the mesh: 2D Medit .mesh; 3D Medit .mesh, VTK XML .vtu (ParaView) or Vega .veg; the element "
+       "reference is the graph node"},
+      {"--embedding", ValueKind::Text, "OUT.emb", "per input vertex: output element and barycentric weights"},
+      {"--svg", ValueKind::Text, "OUT.svg", "(2D) the output mesh pulled apart by sheet"},
+      {"--threads", ValueKind::Integer, "N", "(3D) threads for the virtual tets (0 = all cores; the output is the same)",
+       0, 1024},
+      {"--no-helper-boxes", ValueKind::Flag, "",
+       "(3D) do not cut self-connecting cells (helper-box tets are otherwise dropped)"},
+      {"--json", ValueKind::Text, "OUT",
+       "counts (background, cut and output elements, vertices, copies per cell) and timings"},
+      {"--max-states", ValueKind::Integer, "N", "search budget in explored states (as for 'immerse immersions')", 1},
+      {"--time-limit", ValueKind::Real, "S", "search budget in seconds (as for 'immerse immersions')"},
+  };
+  mesh.footer =
+      "Exit codes: 0 ok, 2 invalid input or a background not covering the input (or touching it\n"
+      "non-generically), 3 not immersible, 64 bad command line (also: --immersion K beyond the\n"
+      "immersions found), 1 internal error.\n";
+  specs.push_back(mesh);
 
-constexpr const char* kGenerateHelp = R"(usage: immerse generate NAME [PARAMS...] [-o OUT]
-       immerse generate --list
+  CommandSpec generate;
+  generate.name = "generate";
+  generate.usage = "generate NAME [PARAMS...] [-o OUT]\n       immerse generate --list";
+  generate.positional_name = "NAME PARAMS";
+  generate.positional_help = "a generator name and its positional parameters, as listed by --list";
+  generate.min_positional = 0;
+  generate.max_positional = std::numeric_limits<std::size_t>::max();
+  generate.missing_positional = "missing generator name";
+  generate.description =
+      "Writes a procedural input (the paper's figures and test shapes): a 2D curve or a 3D surface.\n"
+      "2D: OUT ending in .obj is written as OBJ 'v'/'l' lines, .svg as polygons, anything else in the\n"
+      "text format; without -o the text format goes to standard output.\n"
+      "3D: OUT ending in .off is written as OFF, .obj (or no -o: standard output) as OBJ.\n";
+  generate.options = {
+      {"-o", ValueKind::Text, "OUT", "the output file (default: standard output)"},
+      {"--list", ValueKind::Flag, "", "list the generators with their parameters"},
+  };
+  generate.footer = "Exit codes: 0 ok, 64 unknown name or bad parameters, 1 output not writable.\n";
+  specs.push_back(generate);
+  return specs;
+}
 
-Writes a procedural input (the paper's figures and test shapes): a 2D curve or a 3D surface,
-as listed by --list. PARAMS are positional, as listed by --list.
-2D: OUT ending in .obj is written as OBJ 'v'/'l' lines, .svg as polygons, anything else in the
-text format; without -o the text format goes to standard output.
-3D: OUT ending in .off is written as OFF, .obj (or no -o: standard output) as OBJ.
-Exit codes: 0 ok, 64 unknown name or bad parameters, 1 output not writable.
-)";
-
-const char* help_for(const std::string& command) {
-  if (command == "check") return kCheckHelp;
-  if (command == "cells") return kCellsHelp;
-  if (command == "immersions") return kImmersionsHelp;
-  if (command == "mesh") return kMeshHelp;
-  if (command == "generate") return kGenerateHelp;
+/// The command named `name`, or null.
+const CommandSpec* find_command(const std::string& name) {
+  static const std::vector<CommandSpec> specs = make_command_specs();
+  for (const CommandSpec& spec : specs) {
+    if (spec.name == name) return &spec;
+  }
   return nullptr;
-}
-
-// ---- command-line parsing -----------------------------------------------------------------
-
-struct OptionSpec {
-  std::string_view name;  ///< "--json", "-o"
-  bool takes_value;
-};
-
-/// A usage error: the message, printed with the command's usage line, exit code 64.
-struct UsageError {
-  std::string message;
-};
-
-bool looks_like_number(const std::string& s) {
-  double v = 0;
-  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  return r.ec == std::errc() && r.ptr == s.data() + s.size();
-}
-
-/// Parses args[first..]; options may be given as "--name value" or "--name=value".
-std::optional<UsageError> parse_command_line(const std::vector<std::string>& args, std::size_t first,
-                                             const std::vector<OptionSpec>& specs, CommandLine& out) {
-  bool options_done = false;
-  for (std::size_t i = first; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    if (options_done || arg.size() < 2 || arg[0] != '-' || looks_like_number(arg)) {
-      out.positional.push_back(arg);
-      continue;
-    }
-    if (arg == "--") {
-      options_done = true;
-      continue;
-    }
-    if (arg == "--help" || arg == "-h") {
-      out.help = true;
-      continue;
-    }
-    std::string name = arg;
-    std::optional<std::string> inline_value;
-    if (const std::size_t eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
-      name = arg.substr(0, eq);
-      inline_value = arg.substr(eq + 1);
-    }
-    const auto spec = std::find_if(specs.begin(), specs.end(), [&](const OptionSpec& s) { return s.name == name; });
-    if (spec == specs.end()) return UsageError{"unknown option '" + name + "'"};
-    if (out.has(name)) return UsageError{"option '" + name + "' given twice"};
-    if (!spec->takes_value) {
-      if (inline_value) return UsageError{"option '" + name + "' takes no value"};
-      out.flags.insert(name);
-      continue;
-    }
-    if (inline_value) {
-      out.values[name] = *inline_value;
-    } else if (i + 1 < args.size()) {
-      out.values[name] = args[++i];
-    } else {
-      return UsageError{"option '" + name + "' needs a value"};
-    }
-    if (out.values[name].empty()) return UsageError{"option '" + name + "' needs a non-empty value"};
-  }
-  return std::nullopt;
-}
-
-/// A whole decimal integer in [low, high], or a usage error naming the option.
-std::variant<long long, UsageError> parse_integer(const std::string& option, const std::string& text,
-                                                  long long low, long long high) {
-  long long v = 0;
-  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (r.ec != std::errc() || r.ptr != text.data() + text.size()) {
-    return UsageError{option + " expects an integer, got '" + text + "'"};
-  }
-  if (v < low || v > high) {
-    return UsageError{option + " must be " + (high == std::numeric_limits<long long>::max()
-                                                  ? "at least " + std::to_string(low)
-                                                  : "between " + std::to_string(low) + " and " + std::to_string(high)) +
-                      ", got " + text};
-  }
-  return v;
-}
-
-std::variant<double, UsageError> parse_positive_real(const std::string& option, const std::string& text) {
-  double v = 0;
-  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (r.ec != std::errc() || r.ptr != text.data() + text.size() || !std::isfinite(v)) {
-    return UsageError{option + " expects a number, got '" + text + "'"};
-  }
-  if (!(v > 0.0)) return UsageError{option + " must be positive, got " + text};
-  return v;
 }
 
 }  // namespace
 
-// ---- shared with the 3D commands (core/cli_common.h) -----------------------------------------
+// ---- shared with the 3D commands (app/cli_common.h) -----------------------------------------
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -313,13 +276,7 @@ std::string format_ms(double seconds) {
 }
 
 int usage_error(const CliEnvironment& env, const std::string& command, const std::string& message) {
-  env.err << "immerse" << (command.empty() ? "" : " " + command) << ": " << message << '\n';
-  if (const char* help = help_for(command)) {
-    const std::string text = help;
-    env.err << text.substr(0, text.find("\n\n")) << '\n';
-  }
-  env.err << "run 'immerse " << (command.empty() ? "" : command + " ") << "--help' for details\n";
-  return kExitUsage;
+  return print_usage_error(env, find_command(command), message);
 }
 
 void print_written(Session& s, std::size_t from) {
@@ -412,18 +369,18 @@ void print_immersion_list(Session& s, const std::string& description, const Sear
 Json defects_json(const ValidationReport& report, const std::string& facet_key) {
   Json list = Json::array();
   for (const Defect& d : report.defects) {
-    Json& j = list.push(Json::object());
-    j.set("kind", to_string(d.kind));
-    j.set("stage", d.stage);
-    j.set("message", d.message);
-    Json& facets = j.set(facet_key, Json::array());
-    for (long f : d.facets) facets.push(f);
-    Json& vertices = j.set("vertices", Json::array());
-    for (long v : d.vertices) vertices.push(v);
-    Json& points = j.set("points", Json::array());
+    Json& j = list.emplace_back(Json::object());
+    j["kind"] = to_string(d.kind);
+    j["stage"] = d.stage;
+    j["message"] = d.message;
+    Json& facets = (j[facet_key] = Json::array());
+    for (long f : d.facets) facets.emplace_back(f);
+    Json& vertices = (j["vertices"] = Json::array());
+    for (long v : d.vertices) vertices.emplace_back(v);
+    Json& points = (j["points"] = Json::array());
     for (const auto& p : d.points) {
-      Json& q = points.push(Json::array());
-      for (double x : p) q.push(x);
+      Json& q = points.emplace_back(Json::array());
+      for (double x : p) q.emplace_back(x);
     }
   }
   return list;
@@ -431,67 +388,67 @@ Json defects_json(const ValidationReport& report, const std::string& facet_key) 
 
 Json conflict_json(const Conflict& c) {
   Json j = Json::object();
-  j.set("rule", c.rule);
-  j.set("message", c.message);
-  Json& cells = j.set("cells", Json::array());
-  for (CellId id : c.cells) cells.push(id.value());
-  Json& nodes = j.set("nodes", Json::array());
-  for (NodeId id : c.nodes) nodes.push(id.value());
-  Json& patches = j.set("patches", Json::array());
-  for (PatchId id : c.patches) patches.push(id.value());
-  j.set("arc", c.arc.is_valid() ? Json(c.arc.value()) : Json());
+  j["rule"] = c.rule;
+  j["message"] = c.message;
+  Json& cells = (j["cells"] = Json::array());
+  for (CellId id : c.cells) cells.emplace_back(id.value());
+  Json& nodes = (j["nodes"] = Json::array());
+  for (NodeId id : c.nodes) nodes.emplace_back(id.value());
+  Json& patches = (j["patches"] = Json::array());
+  for (PatchId id : c.patches) patches.emplace_back(id.value());
+  j["arc"] = c.arc.is_valid() ? Json(c.arc.value()) : Json();
   return j;
 }
 
 Json immersion_json(const Immersion& im, std::size_t index) {
   Json j = Json::object();
-  j.set("index", index);
-  Json& nodes = j.set("nodes", Json::array());
+  j["index"] = index;
+  Json& nodes = (j["nodes"] = Json::array());
   for (NodeId n : ids<NodeId>(im.layout.node_count())) {
-    Json& o = nodes.push(Json::object());
-    o.set("id", n.value());
-    o.set("cell", im.layout.cell(n).value());
-    o.set("copy", im.layout.copy(n));
+    Json& o = nodes.emplace_back(Json::object());
+    o["id"] = n.value();
+    o["cell"] = im.layout.cell(n).value();
+    o["copy"] = im.layout.copy(n);
   }
-  Json& edges = j.set("edges", Json::array());
+  Json& edges = (j["edges"] = Json::array());
   for (const ImmersionEdge& e : im.edges) {
-    Json& o = edges.push(Json::object());
-    o.set("inner", e.inner.value());
-    o.set("outer", e.outer.value());
-    o.set("patch", e.patch.value());
+    Json& o = edges.emplace_back(Json::object());
+    o["inner"] = e.inner.value();
+    o["outer"] = e.outer.value();
+    o["patch"] = e.patch.value();
   }
-  Json& owner = j.set("owner", Json::array());
-  for (NodeId n : im.owner) owner.push(n.is_valid() ? Json(n.value()) : Json());
-  Json& components = j.set("components", Json::array());
+  Json& owner = (j["owner"] = Json::array());
+  for (NodeId n : im.owner) owner.emplace_back(n.is_valid() ? Json(n.value()) : Json());
+  Json& components = (j["components"] = Json::array());
   for (const auto& component : im.components()) {
-    Json& c = components.push(Json::array());
-    for (NodeId n : component) c.push(n.value());
+    Json& c = components.emplace_back(Json::array());
+    for (NodeId n : component) c.emplace_back(n.value());
   }
   return j;
 }
 
 Json stats_json(const SearchStats& s) {
   Json j = Json::object();
-  j.set("states", s.states);
-  j.set("branches", s.branches);
-  j.set("dead_ends", s.dead_ends);
-  j.set("duplicates", s.duplicates);
-  j.set("groups", s.groups);
-  j.set("seconds", s.seconds);
+  j["states"] = s.states;
+  j["branches"] = s.branches;
+  j["dead_ends"] = s.dead_ends;
+  j["duplicates"] = s.duplicates;
+  j["groups"] = s.groups;
+  j["seconds"] = s.seconds;
   return j;
 }
 
 Json search_json(Json input, const SearchResult& r, const Session& s) {
   Json j = Json::object();
-  j.set("input", std::move(input));
-  j.set("status", to_string(r.status));
-  j.set("count", r.immersions.size());
-  j.set("complete", r.complete);
-  j.set("stats", stats_json(r.stats));
-  j.set("conflict", r.status == ImmersionStatus::Immersible ? Json() : conflict_json(r.conflict));
-  Json& list = j.set("immersions", Json::array());
-  for (std::size_t k = 0; k < r.immersions.size(); ++k) list.push(immersion_json(r.immersions[k], k));
-  j.set("timings_ms", s.timings_json());
+  j["input"] = std::move(input);
+  j["status"] = to_string(r.status);
+  j["count"] = r.immersions.size();
+  j["complete"] = r.complete;
+  j["stats"] = stats_json(r.stats);
+  j["conflict"] = r.status == ImmersionStatus::Immersible ? Json() : conflict_json(r.conflict);
+  Json& list = (j["immersions"] = Json::array());
+  for (std::size_t k = 0; k < r.immersions.size(); ++k) list.emplace_back(immersion_json(r.immersions[k], k));
+  j["timings_ms"] = s.timings_json();
   return j;
 }
 
@@ -501,8 +458,8 @@ namespace {
 
 Json point_json(const dim2::Point& p) {
   Json a = Json::array();
-  a.push(p.x);
-  a.push(p.y);
+  a.emplace_back(p.x);
+  a.emplace_back(p.y);
   return a;
 }
 
@@ -510,14 +467,14 @@ Json point_json(const dim2::Point& p) {
 Json counts_json(const dim2::Complex2& c2) {
   const CellComplex<2>& complex = c2.complex;
   Json j = Json::object();
-  j.set("regions", complex.region_count());
-  j.set("cells", complex.cell_count());
-  j.set("patches", complex.patch_count());
-  j.set("arcs", complex.arc_count());
-  j.set("max_winding", complex.max_winding_number());
-  j.set("arrangement_vertices", c2.arrangement_vertices);
-  j.set("arrangement_edges", c2.arrangement_edges);
-  j.set("arrangement_faces", c2.arrangement_faces);
+  j["regions"] = complex.region_count();
+  j["cells"] = complex.cell_count();
+  j["patches"] = complex.patch_count();
+  j["arcs"] = complex.arc_count();
+  j["max_winding"] = complex.max_winding_number();
+  j["arrangement_vertices"] = c2.arrangement_vertices;
+  j["arrangement_edges"] = c2.arrangement_edges;
+  j["arrangement_faces"] = c2.arrangement_faces;
   return j;
 }
 
@@ -525,27 +482,27 @@ Json counts_json(const dim2::Complex2& c2) {
 /// a sample point), cells, patches, arcs (with their crossing point; junctions counter-clockwise).
 void add_complex_json(Json& j, const dim2::Complex2& c2) {
   const CellComplex<2>& complex = c2.complex;
-  j.set("counts", counts_json(c2));
+  j["counts"] = counts_json(c2);
   Rational total = 0;
   for (RegionId r : ids<RegionId>(complex.region_count())) total += complex.measure(r) * complex.winding_number(r);
-  j.set("winding_weighted_area", to_string(total));
+  j["winding_weighted_area"] = to_string(total);
   ComplexJsonHooks hooks;
   hooks.region = [&](Json& o, RegionId r) {
-    o.set("area", to_string(complex.measure(r)));
-    o.set("area_double", to_double(complex.measure(r)));
-    o.set("sample", point_json(c2.region_sample[r]));
+    o["area"] = to_string(complex.measure(r));
+    o["area_double"] = to_double(complex.measure(r));
+    o["sample"] = point_json(c2.region_sample[r]);
   };
-  hooks.arc = [&](Json& o, ArcId a) { o.set("point", point_json(c2.arc_point[a])); };
+  hooks.arc = [&](Json& o, ArcId a) { (o["point"] = point_json(c2.arc_point[a])); };
   hooks.junction_key = "junction_patches_ccw";
   cli::add_complex_json(j, complex, hooks);
 }
 
 Json inversion_json(const dim2::Inversion& inv) {
   Json j = Json::object();
-  j.set("region", inv.region.value());
-  j.set("winding", inv.winding_number);
-  j.set("sample", point_json(inv.sample));
-  j.set("message", inv.message);
+  j["region"] = inv.region.value();
+  j["winding"] = inv.winding_number;
+  j["sample"] = point_json(inv.sample);
+  j["message"] = inv.message;
   return j;
 }
 
@@ -562,11 +519,11 @@ struct Prepared {
 
 Json input_json(const Prepared& p) {
   Json j = Json::object();
-  j.set("path", p.path);
-  j.set("dimension", 2);
-  j.set("curves", p.curves.curves.size());
-  j.set("vertices", p.curves.vertex_count());
-  j.set("reversed", p.complex ? Json(p.complex->reversed) : Json());
+  j["path"] = p.path;
+  j["dimension"] = 2;
+  j["curves"] = p.curves.curves.size();
+  j["vertices"] = p.curves.vertex_count();
+  j["reversed"] = p.complex ? Json(p.complex->reversed) : Json();
   return j;
 }
 
@@ -624,15 +581,15 @@ Json search_json(const Prepared& p, const SearchResult& r, const Session& s) {
 /// JSON for an input that never reached the search (defects or inversion).
 Json early_json(const Prepared& p, const Session& s) {
   Json j = Json::object();
-  j.set("input", input_json(p));
+  j["input"] = input_json(p);
   if (!p.report.ok()) {
-    j.set("status", "invalid-input");
-    j.set("defects", defects_json(p.report, "segments"));
+    j["status"] = "invalid-input";
+    j["defects"] = defects_json(p.report, "segments");
   } else if (p.inversion) {
-    j.set("status", "inverted");
-    j.set("inversion", inversion_json(*p.inversion));
+    j["status"] = "inverted";
+    j["inversion"] = inversion_json(*p.inversion);
   }
-  j.set("timings_ms", s.timings_json());
+  j["timings_ms"] = s.timings_json();
   return j;
 }
 
@@ -717,25 +674,6 @@ std::string format_curves_for(const std::string& path, const dim2::CurveSet& cur
 
 constexpr std::size_t kMaxTableRows = 40;
 
-/// Parses a command's arguments. @return an exit code when the command must stop here (help
-/// printed: 0; usage error printed: 64).
-std::optional<int> parse_or_exit(const CliEnvironment& env, const std::string& command,
-                                 const std::vector<std::string>& args, const std::vector<OptionSpec>& specs,
-                                 std::size_t min_positional, std::size_t max_positional, CommandLine& cl) {
-  if (auto error = parse_command_line(args, 1, specs, cl)) return usage_error(env, command, error->message);
-  if (cl.help) {
-    env.out << help_for(command);
-    return kExitOk;
-  }
-  if (cl.positional.size() < min_positional) {
-    return usage_error(env, command, command == "generate" ? "missing generator name" : "missing input file");
-  }
-  if (cl.positional.size() > max_positional) {
-    return usage_error(env, command, "unexpected argument '" + cl.positional[max_positional] + "'");
-  }
-  return std::nullopt;
-}
-
 std::string describe_input(const Prepared& p) {
   return "'" + p.path + "': 2D input, " + plural(p.curves.curves.size(), "curve") + ", " +
          plural(p.curves.vertex_count(), "vertex", "vertices");
@@ -743,10 +681,10 @@ std::string describe_input(const Prepared& p) {
 
 Json cells_report_json(const Prepared& p, const Session& s) {
   Json j = Json::object();
-  j.set("input", input_json(p));
-  j.set("status", "ok");
+  j["input"] = input_json(p);
+  j["status"] = "ok";
   add_complex_json(j, *p.complex);
-  j.set("timings_ms", s.timings_json());
+  j["timings_ms"] = s.timings_json();
   return j;
 }
 
@@ -798,7 +736,7 @@ int prepare_complex_or_report(Session& s, Prepared& p, const std::optional<std::
     code = kExitNotImmersible;
   }
   if (code != kExitOk) {
-    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report")) return kExitInternalError;
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(2) + "\n", "report")) return kExitInternalError;
     print_written(s);
   }
   return code;
@@ -817,7 +755,7 @@ int command_cells(Session& s, const CommandLine& cl) {
   if (const int code = prepare_complex_or_report(s, p, json_path); code != kExitOk) return code;
   s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << '\n';
   print_cell_table(s, *p.complex);
-  if (json_path && !s.write(*json_path, cells_report_json(p, s).dump(), "the cell complex (JSON)")) {
+  if (json_path && !s.write(*json_path, cells_report_json(p, s).dump(2) + "\n", "the cell complex (JSON)")) {
     return kExitInternalError;
   }
   print_written(s);
@@ -828,21 +766,9 @@ int command_cells(Session& s, const CommandLine& cl) {
 std::string parse_search_request(const CommandLine& cl, SearchRequest& request) {
   if (cl.has("--all") && cl.has("--max")) return "--all and --max exclude each other";
   if (cl.has("--all")) request.max_immersions = 0;
-  if (auto v = cl.value("--max")) {
-    auto n = parse_integer("--max", *v, 1, std::numeric_limits<long long>::max());
-    if (auto* e = std::get_if<UsageError>(&n)) return e->message;
-    request.max_immersions = static_cast<std::size_t>(std::get<long long>(n));
-  }
-  if (auto v = cl.value("--max-states")) {
-    auto n = parse_integer("--max-states", *v, 1, std::numeric_limits<long long>::max());
-    if (auto* e = std::get_if<UsageError>(&n)) return e->message;
-    request.max_states = static_cast<std::size_t>(std::get<long long>(n));
-  }
-  if (auto v = cl.value("--time-limit")) {
-    auto t = parse_positive_real("--time-limit", *v);
-    if (auto* e = std::get_if<UsageError>(&t)) return e->message;
-    request.time_limit = std::get<double>(t);
-  }
+  if (auto n = cl.integer("--max")) request.max_immersions = static_cast<std::size_t>(*n);
+  if (auto n = cl.integer("--max-states")) request.max_states = static_cast<std::size_t>(*n);
+  if (auto t = cl.real("--time-limit")) request.time_limit = *t;
   return {};
 }
 
@@ -890,7 +816,7 @@ int command_immersions(Session& s, const CommandLine& cl) {
   const SearchResult r = run_search(s, *p.complex, request);
   s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
   print_search_result(s, p, r, request);
-  if (json_path && !s.write(*json_path, search_json(p, r, s).dump(), "the immersions (JSON)")) {
+  if (json_path && !s.write(*json_path, search_json(p, r, s).dump(2) + "\n", "the immersions (JSON)")) {
     return kExitInternalError;
   }
   if (auto dir = cl.value("--svg"); dir && !write_immersion_svgs(s, p, r, *dir)) return kExitInternalError;
@@ -901,35 +827,35 @@ int command_immersions(Session& s, const CommandLine& cl) {
 Json mesh_json(const Prepared& p, const SearchResult& r, std::size_t k, const dim2::MeshOptions& options,
                const dim2::MeshResult& m, const CommandLine& cl, const Session& s) {
   Json j = Json::object();
-  j.set("input", input_json(p));
-  j.set("status", "ok");
-  j.set("immersion", k);
-  j.set("immersions_found", r.immersions.size());
-  Json& o = j.set("options", Json::object());
-  o.set("resolution", options.background_path ? Json() : Json(options.resolution));
-  o.set("background", options.background_path ? Json(*options.background_path) : Json());
-  o.set("conforming", options.conforming);
-  o.set("method", options.method == MeshMethod::Csg ? "csg" : "clip");
-  Json& c = j.set("counts", Json::object());
-  c.set("input_vertices", p.curves.vertex_count());
-  c.set("background_triangles", m.stats.background_triangles);
-  c.set("cut_triangles", m.stats.cut_triangles);
-  c.set("output_triangles", m.stats.output_triangles);
-  c.set("output_vertices", m.stats.output_vertices);
-  c.set("embedded_vertices", m.embedding.size());
-  c.set("graph_nodes", r.immersions[k].layout.node_count());
-  Json& per_cell = c.set("copies_per_cell", Json::array());
-  for (std::size_t n : m.stats.copies_per_cell) per_cell.push(n);
-  Json& phases = j.set("mesh_phases_ms", Json::object());
-  phases.set("background", m.stats.seconds_background * 1e3);
-  phases.set("virtual", m.stats.seconds_virtual * 1e3);
-  phases.set("assembly", m.stats.seconds_assembly * 1e3);
-  Json& outputs = j.set("outputs", Json::object());
+  j["input"] = input_json(p);
+  j["status"] = "ok";
+  j["immersion"] = k;
+  j["immersions_found"] = r.immersions.size();
+  Json& o = (j["options"] = Json::object());
+  o["resolution"] = options.background_path ? Json() : Json(options.resolution);
+  o["background"] = options.background_path ? Json(*options.background_path) : Json();
+  o["conforming"] = options.conforming;
+  o["method"] = options.method == MeshMethod::Csg ? "csg" : "clip";
+  Json& c = (j["counts"] = Json::object());
+  c["input_vertices"] = p.curves.vertex_count();
+  c["background_triangles"] = m.stats.background_triangles;
+  c["cut_triangles"] = m.stats.cut_triangles;
+  c["output_triangles"] = m.stats.output_triangles;
+  c["output_vertices"] = m.stats.output_vertices;
+  c["embedded_vertices"] = m.embedding.size();
+  c["graph_nodes"] = r.immersions[k].layout.node_count();
+  Json& per_cell = (c["copies_per_cell"] = Json::array());
+  for (std::size_t n : m.stats.copies_per_cell) per_cell.emplace_back(n);
+  Json& phases = (j["mesh_phases_ms"] = Json::object());
+  phases["background"] = m.stats.seconds_background * 1e3;
+  phases["virtual"] = m.stats.seconds_virtual * 1e3;
+  phases["assembly"] = m.stats.seconds_assembly * 1e3;
+  Json& outputs = (j["outputs"] = Json::object());
   for (const char* option : {"-o", "--embedding", "--svg"}) {
     const auto v = cl.value(option);
-    outputs.set(std::string(option) == "-o" ? "mesh" : std::string(option).substr(2), v ? Json(*v) : Json());
+    outputs[std::string(option) == "-o" ? "mesh" : std::string(option).substr(2)] = v ? Json(*v) : Json();
   }
-  j.set("timings_ms", s.timings_json());
+  j["timings_ms"] = s.timings_json();
   return j;
 }
 
@@ -947,11 +873,11 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
     s.set_counts("meshing failed (" + plural(m.report.defects.size(), "defect") + ")");
     if (auto json_path = cl.value("--json")) {
       Json j = Json::object();
-      j.set("input", input_json(p));
-      j.set("status", "invalid-input");
-      j.set("defects", defects_json(m.report, "segments"));
-      j.set("timings_ms", s.timings_json());
-      if (!s.write(*json_path, j.dump(), "report")) return kExitInternalError;
+      j["input"] = input_json(p);
+      j["status"] = "invalid-input";
+      j["defects"] = defects_json(m.report, "segments");
+      j["timings_ms"] = s.timings_json();
+      if (!s.write(*json_path, j.dump(2) + "\n", "report")) return kExitInternalError;
     }
     return kExitInvalidInput;
   }
@@ -974,7 +900,7 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
     return kExitInternalError;
   }
   if (auto path = cl.value("--json");
-      path && !s.write(*path, mesh_json(p, r, k, mesh_options, m, cl, s).dump(), "mesh counts and timings (JSON)")) {
+      path && !s.write(*path, mesh_json(p, r, k, mesh_options, m, cl, s).dump(2) + "\n", "mesh counts and timings (JSON)")) {
     return kExitInternalError;
   }
   return kExitOk;
@@ -989,19 +915,11 @@ int command_mesh(Session& s, const CommandLine& cl) {
   if (cl.has("--resolution") && cl.has("--background")) {
     return usage_error(env, "mesh", "--resolution and --background exclude each other");
   }
-  if (auto v = cl.value("--resolution")) {
-    auto n = parse_integer("--resolution", *v, 1, 100'000);
-    if (auto* e = std::get_if<UsageError>(&n)) return usage_error(env, "mesh", e->message);
-    options.resolution = static_cast<int>(std::get<long long>(n));
-  }
+  if (auto n = cl.integer("--resolution")) options.resolution = static_cast<int>(*n);
   if (auto v = cl.value("--background")) options.background_path = *v;
   options.conforming = cl.has("--conforming");
   std::size_t k = 0;
-  if (auto v = cl.value("--immersion")) {
-    auto n = parse_integer("--immersion", *v, 0, 1'000'000);
-    if (auto* e = std::get_if<UsageError>(&n)) return usage_error(env, "mesh", e->message);
-    k = static_cast<std::size_t>(std::get<long long>(n));
-  }
+  if (auto n = cl.integer("--immersion")) k = static_cast<std::size_t>(*n);
   if (auto v = cl.value("--method")) {
     if (*v == "csg") {
       options.method = MeshMethod::Csg;
@@ -1024,11 +942,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
       }
       options3.resolution = options.resolution;
     }
-    if (auto v = cl.value("--threads")) {
-      auto n = parse_integer("--threads", *v, 0, 1024);
-      if (auto* e = std::get_if<UsageError>(&n)) return usage_error(env, "mesh", e->message);
-      options3.threads = static_cast<unsigned>(std::get<long long>(n));
-    }
+    if (auto n = cl.integer("--threads")) options3.threads = static_cast<unsigned>(*n);
     if (all && cl.has("--immersion")) return usage_error(env, "mesh", "--all and --immersion exclude each other");
     return mesh_surface(s, cl, request, options3, k, all);
   }
@@ -1044,7 +958,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
   if (r.status != ImmersionStatus::Immersible) {
     s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
     print_no_immersion(s, p.path, r);
-    if (json_path && !s.write(*json_path, search_json(p, r, s).dump(), "report")) return kExitInternalError;
+    if (json_path && !s.write(*json_path, search_json(p, r, s).dump(2) + "\n", "report")) return kExitInternalError;
     print_written(s);
     return kExitNotImmersible;
   }
@@ -1134,7 +1048,7 @@ int command_default(Session& s) {
   svg_options.title = std::string("input '") + kDefaultInput + "': cells and winding numbers";
   if (!s.write(at("input.svg"), dim2::format_complex_svg(*p.complex, svg_options),
                "the input curve: directions, crossings, cells with winding numbers (SVG)") ||
-      !s.write(at("cells.json"), cells_report_json(p, s).dump(), "the cell complex (JSON)")) {
+      !s.write(at("cells.json"), cells_report_json(p, s).dump(2) + "\n", "the cell complex (JSON)")) {
     return kExitInternalError;
   }
   SearchRequest request;
@@ -1142,7 +1056,7 @@ int command_default(Session& s) {
   const SearchResult r = run_search(s, *p.complex, request);
   s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
   print_search_result(s, p, r, request);
-  if (!s.write(at("immersions.json"), search_json(p, r, s).dump(), "every immersion: nodes, edges, owners (JSON)") ||
+  if (!s.write(at("immersions.json"), search_json(p, r, s).dump(2) + "\n", "every immersion: nodes, edges, owners (JSON)") ||
       !write_immersion_svgs(s, p, r, dir.string())) {
     return kExitInternalError;
   }
@@ -1165,53 +1079,27 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   if (command == "--help" || command == "-h" || command == "help") {
     if (args.size() > 2) return usage_error(env, "", "'help' takes at most one command name");
     if (args.size() == 2 && command == "help") {
-      const char* text = help_for(args[1]);
-      if (text == nullptr) return usage_error(env, "", "unknown command '" + args[1] + "'");
-      env.out << text;
+      const CommandSpec* spec = find_command(args[1]);
+      if (spec == nullptr) return usage_error(env, "", "unknown command '" + args[1] + "'");
+      env.out << command_help(*spec);
       return kExitOk;
     }
     if (args.size() == 2) return usage_error(env, "", "unexpected argument '" + args[1] + "'");
     env.out << kMainHelp;
     return kExitOk;
   }
+  const CommandSpec* spec = find_command(command);
+  if (spec == nullptr) {
+    if (!command.empty() && command[0] == '-') return usage_error(env, "", "unknown option '" + command + "'");
+    return usage_error(env, "", "unknown command '" + command + "'");
+  }
   CommandLine cl;
-  if (command == "check") {
-    if (auto code = parse_or_exit(env, command, args, {}, 1, 1, cl)) return *code;
-    return command_check(s, cl);
-  }
-  if (command == "cells") {
-    if (auto code = parse_or_exit(env, command, args, {{"--json", true}, {"--cut-mesh", true}}, 1, 1, cl)) {
-      return *code;
-    }
-    return command_cells(s, cl);
-  }
-  const std::vector<OptionSpec> search_specs = {
-      {"--all", false}, {"--max", true}, {"--max-states", true}, {"--time-limit", true}, {"--json", true}};
-  if (command == "immersions") {
-    std::vector<OptionSpec> specs = search_specs;
-    specs.push_back({"--svg", true});
-    specs.push_back({"--no-helper-boxes", false});
-    if (auto code = parse_or_exit(env, command, args, specs, 1, 1, cl)) return *code;
-    return command_immersions(s, cl);
-  }
-  if (command == "mesh") {
-    const std::vector<OptionSpec> specs = {
-        {"--resolution", true}, {"--background", true}, {"--conforming", false}, {"--immersion", true},
-        {"--method", true},     {"-o", true},           {"--embedding", true},   {"--svg", true},
-        {"--json", true},       {"--max-states", true}, {"--time-limit", true}, {"--all", false},
-        {"--threads", true},    {"--no-helper-boxes", false}};
-    if (auto code = parse_or_exit(env, command, args, specs, 1, 1, cl)) return *code;
-    return command_mesh(s, cl);
-  }
-  if (command == "generate") {
-    if (auto code = parse_or_exit(env, command, args, {{"-o", true}, {"--list", false}}, 0,
-                                  std::numeric_limits<std::size_t>::max(), cl)) {
-      return *code;
-    }
-    return command_generate(s, cl);
-  }
-  if (!command.empty() && command[0] == '-') return usage_error(env, "", "unknown option '" + command + "'");
-  return usage_error(env, "", "unknown command '" + command + "'");
+  if (auto code = parse_command(env, *spec, std::vector<std::string>(args.begin() + 1, args.end()), cl)) return *code;
+  if (command == "check") return command_check(s, cl);
+  if (command == "cells") return command_cells(s, cl);
+  if (command == "immersions") return command_immersions(s, cl);
+  if (command == "mesh") return command_mesh(s, cl);
+  return command_generate(s, cl);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
-// The 3D commands of `immerse` (core/cli.h): check, cells, immersions and generate on closed
+// The 3D commands of `immerse` (app/cli.h): check, cells, immersions and generate on closed
 // triangle meshes (OBJ, OFF, PLY, STL). The 2D commands dispatch here when the input is a
 // surface (is_surface_file); messages, exit codes, JSON shapes and the summary line follow the
-// 2D ones (core/cli.cpp), with triangles where 2D has segments and volumes where it has areas.
+// 2D ones (app/cli.cpp), with triangles where 2D has segments and volumes where it has areas.
 //
 // Library results map to exit codes as in 2D: a ValidationReport with defects (the reader's, the
 // validator's, or the exact intersection's non-generic contacts) -> 2; an inversion, a proven
@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "core/cli_common.h"
+#include "app/cli_common.h"
 #include "dim3/complex3.h"
 #include "dim3/generators3.h"
 #include "dim3/mesh3.h"
@@ -59,24 +59,24 @@ struct PreparedSurface {
 
 Json point_json(const Point3& p) {
   Json a = Json::array();
-  for (double x : p) a.push(x);
+  for (double x : p) a.emplace_back(x);
   return a;
 }
 
 Json box_json(const Box3& b) {
   Json j = Json::object();
-  j.set("lo", point_json(b.lo));
-  j.set("hi", point_json(b.hi));
+  j["lo"] = point_json(b.lo);
+  j["hi"] = point_json(b.hi);
   return j;
 }
 
 Json input_json(const PreparedSurface& p) {
   Json j = Json::object();
-  j.set("path", p.path);
-  j.set("dimension", 3);
-  j.set("triangles", p.surface.triangle_count());
-  j.set("vertices", p.surface.vertex_count());
-  j.set("reversed", p.complex ? Json(p.complex->reversed) : Json());
+  j["path"] = p.path;
+  j["dimension"] = 3;
+  j["triangles"] = p.surface.triangle_count();
+  j["vertices"] = p.surface.vertex_count();
+  j["reversed"] = p.complex ? Json(p.complex->reversed) : Json();
   return j;
 }
 
@@ -87,26 +87,26 @@ std::string describe_input(const PreparedSurface& p) {
 
 Json inversion_json(const dim3::Inversion3& inv) {
   Json j = Json::object();
-  j.set("region", inv.region.value());
-  j.set("winding", inv.winding_number);
-  Json& triangles = j.set("triangles", Json::array());
-  for (long t : inv.triangles) triangles.push(t);
-  j.set("message", inv.message);
+  j["region"] = inv.region.value();
+  j["winding"] = inv.winding_number;
+  Json& triangles = (j["triangles"] = Json::array());
+  for (long t : inv.triangles) triangles.emplace_back(t);
+  j["message"] = inv.message;
   return j;
 }
 
 /// JSON for an input that never reached the search (defects or inversion).
 Json early_json(const PreparedSurface& p, const Session& s) {
   Json j = Json::object();
-  j.set("input", input_json(p));
+  j["input"] = input_json(p);
   if (!p.report.ok()) {
-    j.set("status", "invalid-input");
-    j.set("defects", defects_json(p.report, "triangles"));
+    j["status"] = "invalid-input";
+    j["defects"] = defects_json(p.report, "triangles");
   } else if (p.inversion) {
-    j.set("status", "inverted");
-    j.set("inversion", inversion_json(*p.inversion));
+    j["status"] = "inverted";
+    j["inversion"] = inversion_json(*p.inversion);
   }
-  j.set("timings_ms", s.timings_json());
+  j["timings_ms"] = s.timings_json();
   return j;
 }
 
@@ -169,7 +169,7 @@ int prepare_complex_or_report(Session& s, PreparedSurface& p, bool exact_volumes
     code = kExitNotImmersible;
   }
   if (code != kExitOk) {
-    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report"))
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(2) + "\n", "report"))
       return kExitInternalError;
     print_written(s);
   }
@@ -182,21 +182,21 @@ Json counts_json(const PreparedSurface& p) {
   const Complex3& c3 = *p.complex;
   const CellComplex<3>& complex = c3.complex;
   Json j = Json::object();
-  j.set("regions", complex.region_count());
-  j.set("cells", complex.cell_count());
-  j.set("patches", complex.patch_count());
-  j.set("arcs", complex.arc_count());
-  j.set("max_winding", complex.max_winding_number());
-  j.set("triangles", p.surface.triangle_count());
-  j.set("vertices", p.surface.vertex_count());
-  j.set("components", c3.components);
-  j.set("groups", c3.groups);
-  j.set("intersecting_pairs", c3.intersecting_pairs);
-  j.set("intersection_points", c3.intersection_points);
-  j.set("triple_points", c3.triple_points);
-  j.set("cut_edges", c3.cut_edges);
-  j.set("cut_vertices", c3.cut_vertices.size());
-  j.set("cut_triangles", c3.cut_triangles.size());
+  j["regions"] = complex.region_count();
+  j["cells"] = complex.cell_count();
+  j["patches"] = complex.patch_count();
+  j["arcs"] = complex.arc_count();
+  j["max_winding"] = complex.max_winding_number();
+  j["triangles"] = p.surface.triangle_count();
+  j["vertices"] = p.surface.vertex_count();
+  j["components"] = c3.components;
+  j["groups"] = c3.groups;
+  j["intersecting_pairs"] = c3.intersecting_pairs;
+  j["intersection_points"] = c3.intersection_points;
+  j["triple_points"] = c3.triple_points;
+  j["cut_edges"] = c3.cut_edges;
+  j["cut_vertices"] = c3.cut_vertices.size();
+  j["cut_triangles"] = c3.cut_triangles.size();
   return j;
 }
 
@@ -204,36 +204,35 @@ Json cells_report_json(const PreparedSurface& p, const Session& s) {
   const Complex3& c3 = *p.complex;
   const CellComplex<3>& complex = c3.complex;
   Json j = Json::object();
-  j.set("input", input_json(p));
-  j.set("status", "ok");
-  j.set("counts", counts_json(p));
-  j.set("volumes_exact", c3.exact_volumes);
+  j["input"] = input_json(p);
+  j["status"] = "ok";
+  j["counts"] = counts_json(p);
+  j["volumes_exact"] = c3.exact_volumes;
   Rational total = 0;
   for (RegionId r : ids<RegionId>(complex.region_count()))
     total += complex.measure(r) * complex.winding_number(r);
   // Invariant 1 (DESIGN §4): equals the signed volume enclosed by the input.
-  j.set("winding_weighted_volume", to_double(total));
-  j.set("winding_weighted_volume_exact", c3.exact_volumes ? Json(to_string(total)) : Json());
+  j["winding_weighted_volume"] = to_double(total);
+  j["winding_weighted_volume_exact"] = c3.exact_volumes ? Json(to_string(total)) : Json();
   ComplexJsonHooks hooks;
   hooks.region = [&](Json& o, RegionId r) {
     // The unbounded region has no volume (the complex stores 0 for it).
     const bool bounded = r != kOutsideRegion;
-    o.set("volume", bounded ? Json(to_double(complex.measure(r))) : Json());
-    o.set("volume_exact",
-          bounded && c3.exact_volumes ? Json(to_string(complex.measure(r))) : Json());
-    o.set("genus", c3.region_genus[r]);
-    o.set("box", r == kOutsideRegion ? Json() : box_json(c3.region_box[r]));
+    o["volume"] = bounded ? Json(to_double(complex.measure(r))) : Json();
+    o["volume_exact"] = bounded && c3.exact_volumes ? Json(to_string(complex.measure(r))) : Json();
+    o["genus"] = c3.region_genus[r];
+    o["box"] = r == kOutsideRegion ? Json() : box_json(c3.region_box[r]);
   };
-  hooks.patch = [&](Json& o, PatchId q) { o.set("triangles", c3.patch_triangle_count[q]); };
+  hooks.patch = [&](Json& o, PatchId q) { (o["triangles"] = c3.patch_triangle_count[q]); };
   hooks.arc = [&](Json& o, ArcId a) {
     const std::vector<std::uint32_t>& points = c3.arc_points[a];
-    o.set("closed", points.size() > 1 && points.front() == points.back());
-    o.set("point_count", points.size());  // a closed loop repeats its first point
-    o.set("sample", points.empty() ? Json() : point_json(c3.points[points[points.size() / 2]]));
+    o["closed"] = points.size() > 1 && points.front() == points.back();
+    o["point_count"] = points.size();  // a closed loop repeats its first point
+    o["sample"] = points.empty() ? Json() : point_json(c3.points[points[points.size() / 2]]);
   };
   hooks.junction_key = "junction_patches";
   add_complex_json(j, complex, hooks);
-  j.set("timings_ms", s.timings_json());
+  j["timings_ms"] = s.timings_json();
   return j;
 }
 
@@ -270,7 +269,7 @@ void print_cell_table(Session& s, const PreparedSurface& p) {
 /// The helper boxes' part of a report (empty when none were needed).
 Json helper_boxes_json(const dim3::Immersed3& im) {
   Json boxes = Json::array();
-  for (const Box3& b : im.helper_boxes) boxes.push(box_json(b));
+  for (const Box3& b : im.helper_boxes) boxes.emplace_back(box_json(b));
   return boxes;
 }
 
@@ -324,7 +323,7 @@ int cells_surface(Session& s, const CommandLine& cl) {
   s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << '\n';
   print_cell_table(s, p);
   if (json_path &&
-      !s.write(*json_path, cells_report_json(p, s).dump(), "the cell complex (JSON)")) {
+      !s.write(*json_path, cells_report_json(p, s).dump(2) + "\n", "the cell complex (JSON)")) {
     return kExitInternalError;
   }
   if (auto path = cl.value("--cut-mesh");
@@ -346,7 +345,7 @@ int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, con
                       dim3::Immersed3& im) {
   const auto json_path = cl.value("--json");
   const auto fail_early = [&](int code) {
-    if (json_path && !s.write(*json_path, early_json(p, s).dump(), "report"))
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(2) + "\n", "report"))
       return kExitInternalError;
     print_written(s);
     return code;
@@ -434,20 +433,20 @@ int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& r
   }
   if (json_path) {
     Json input = input_json(p);
-    input.set("input_triangles", im.input_triangles);
-    input.set("input_vertices", im.input_vertices);
+    input["input_triangles"] = im.input_triangles;
+    input["input_vertices"] = im.input_vertices;
     Json j = search_json(std::move(input), r, s);
-    Json& counts = j.set("counts", Json::object());
-    counts.set("regions", complex.region_count());
-    counts.set("cells", complex.cell_count());
-    counts.set("patches", complex.patch_count());
-    counts.set("arcs", complex.arc_count());
-    counts.set("max_winding", complex.max_winding_number());
-    j.set("helper_boxes", helper_boxes_json(im));
-    Json& notes = j.set("notes", Json::array());
-    for (const std::string& note : im.notes) notes.push(note);
-    j.set("timings_ms", s.timings_json());
-    if (!s.write(*json_path, j.dump(), "the immersions (JSON)")) return kExitInternalError;
+    Json& counts = (j["counts"] = Json::object());
+    counts["regions"] = complex.region_count();
+    counts["cells"] = complex.cell_count();
+    counts["patches"] = complex.patch_count();
+    counts["arcs"] = complex.arc_count();
+    counts["max_winding"] = complex.max_winding_number();
+    j["helper_boxes"] = helper_boxes_json(im);
+    Json& notes = (j["notes"] = Json::array());
+    for (const std::string& note : im.notes) notes.emplace_back(note);
+    j["timings_ms"] = s.timings_json();
+    if (!s.write(*json_path, j.dump(2) + "\n", "the immersions (JSON)")) return kExitInternalError;
   }
   print_written(s);
   return r.status == ImmersionStatus::Immersible ? kExitOk : kExitNotImmersible;
@@ -472,33 +471,33 @@ std::string format_tet_mesh(const std::string& path, const dim3::TetMesh& mesh) 
 
 Json mesh3_json(const dim3::MeshResult3& m, std::size_t k, const Immersion& immersion) {
   Json j = Json::object();
-  j.set("immersion", k);
-  Json& c = j.set("counts", Json::object());
-  c.set("background_tets", m.stats.background_tets);
-  c.set("candidate_pairs", m.stats.candidate_pairs);
-  c.set("clipped_polygons", m.stats.polygons);
-  c.set("pieces", m.stats.pieces);
-  c.set("cut_tets", m.stats.cut_tets);
-  c.set("side_tests", m.stats.side_tests);
-  c.set("exact_fallback_tets", m.stats.exact_tets);
-  c.set("output_tets", m.stats.output_tets);
-  c.set("output_vertices", m.stats.output_vertices);
-  c.set("helper_tets_dropped", m.stats.helper_tets);
-  c.set("generic_attempts", m.stats.attempts);
-  c.set("embedded_vertices", m.embedding.size());
-  c.set("graph_nodes", immersion.layout.node_count());
-  Json& per_cell = c.set("copies_per_cell", Json::array());
-  for (std::size_t n : m.stats.copies_per_cell) per_cell.push(n);
-  j.set("input_shift", point_json(m.stats.input_shift));
-  Json& phases = j.set("mesh_phases_ms", Json::object());
-  phases.set("background", m.stats.seconds_background * 1e3);
-  phases.set("virtual", m.stats.seconds_virtual * 1e3);
-  phases.set("assembly", m.stats.seconds_assembly * 1e3);
+  j["immersion"] = k;
+  Json& c = (j["counts"] = Json::object());
+  c["background_tets"] = m.stats.background_tets;
+  c["candidate_pairs"] = m.stats.candidate_pairs;
+  c["clipped_polygons"] = m.stats.polygons;
+  c["pieces"] = m.stats.pieces;
+  c["cut_tets"] = m.stats.cut_tets;
+  c["side_tests"] = m.stats.side_tests;
+  c["exact_fallback_tets"] = m.stats.exact_tets;
+  c["output_tets"] = m.stats.output_tets;
+  c["output_vertices"] = m.stats.output_vertices;
+  c["helper_tets_dropped"] = m.stats.helper_tets;
+  c["generic_attempts"] = m.stats.attempts;
+  c["embedded_vertices"] = m.embedding.size();
+  c["graph_nodes"] = immersion.layout.node_count();
+  Json& per_cell = (c["copies_per_cell"] = Json::array());
+  for (std::size_t n : m.stats.copies_per_cell) per_cell.emplace_back(n);
+  j["input_shift"] = point_json(m.stats.input_shift);
+  Json& phases = (j["mesh_phases_ms"] = Json::object());
+  phases["background"] = m.stats.seconds_background * 1e3;
+  phases["virtual"] = m.stats.seconds_virtual * 1e3;
+  phases["assembly"] = m.stats.seconds_assembly * 1e3;
   // CPU milliseconds inside the virtual stage, summed over threads (not part of the wall-time
   // breakdown above; the exact arithmetic includes the booleans).
-  Json& cpu = j.set("virtual_cpu_ms", Json::object());
-  cpu.set("exact_arithmetic", m.stats.cpu_seconds_exact * 1e3);
-  cpu.set("booleans", m.stats.cpu_seconds_booleans * 1e3);
+  Json& cpu = (j["virtual_cpu_ms"] = Json::object());
+  cpu["exact_arithmetic"] = m.stats.cpu_seconds_exact * 1e3;
+  cpu["booleans"] = m.stats.cpu_seconds_booleans * 1e3;
   return j;
 }
 
@@ -528,7 +527,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   if (r.status != ImmersionStatus::Immersible) {
     s.set_counts(complex_counts(complex) + ", " + immersion_counts(r));
     print_no_immersion(s, p.path, r, helper_box_hint(im, boxes_allowed));
-    if (json_path && !s.write(*json_path, search_json(input_json(p), r, s).dump(), "report")) return kExitInternalError;
+    if (json_path && !s.write(*json_path, search_json(input_json(p), r, s).dump(2) + "\n", "report")) return kExitInternalError;
     print_written(s);
     return kExitNotImmersible;
   }
@@ -542,16 +541,16 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   dim3::MeshOptions3 mesh_options = options;
   if (s.show_progress()) mesh_options.progress = [&s](const std::string& m) { s.err() << "immerse: mesh: " << m << '\n'; };
   Json report = Json::object();
-  report.set("input", input_json(p));
-  report.set("status", "ok");
-  report.set("immersions_found", r.immersions.size());
-  report.set("helper_boxes", helper_boxes_json(im));
-  Json& o = report.set("options", Json::object());
-  o.set("resolution", options.background_path ? Json() : Json(options.resolution));
-  o.set("background", options.background_path ? Json(*options.background_path) : Json());
-  o.set("threads", options.threads);
-  o.set("method", options.method == MeshMethod::Csg ? "csg" : "clip");
-  Json& meshes = report.set("meshes", Json::array());
+  report["input"] = input_json(p);
+  report["status"] = "ok";
+  report["immersions_found"] = r.immersions.size();
+  report["helper_boxes"] = helper_boxes_json(im);
+  Json& o = (report["options"] = Json::object());
+  o["resolution"] = options.background_path ? Json() : Json(options.resolution);
+  o["background"] = options.background_path ? Json(*options.background_path) : Json();
+  o["threads"] = options.threads;
+  o["method"] = options.method == MeshMethod::Csg ? "csg" : "clip";
+  Json& meshes = (report["meshes"] = Json::array());
   const std::size_t first = all ? 0 : k;
   const std::size_t last = all ? r.immersions.size() : k + 1;
   std::size_t total_tets = 0;
@@ -565,11 +564,11 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
       s.set_counts("meshing failed (" + plural(m.report.total(), "defect") + ")");
       if (json_path) {
         Json j = Json::object();
-        j.set("input", input_json(p));
-        j.set("status", "invalid-input");
-        j.set("defects", defects_json(m.report, "triangles"));
-        j.set("timings_ms", s.timings_json());
-        if (!s.write(*json_path, j.dump(), "report")) return kExitInternalError;
+        j["input"] = input_json(p);
+        j["status"] = "invalid-input";
+        j["defects"] = defects_json(m.report, "triangles");
+        j["timings_ms"] = s.timings_json();
+        if (!s.write(*json_path, j.dump(2) + "\n", "report")) return kExitInternalError;
       }
       print_written(s);
       return kExitInvalidInput;
@@ -590,23 +589,23 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
             << " cut by the input" << (m.stats.helper_tets > 0 ? ", " + std::to_string(m.stats.helper_tets) + " helper-box tets dropped" : "")
             << ")\n";
     Json entry = mesh3_json(m, i, r.immersions[i]);
-    Json& outputs = entry.set("outputs", Json::object());
+    Json& outputs = (entry["outputs"] = Json::object());
     if (auto path = cl.value("-o")) {
       const std::string out = all ? numbered(*path, i) : *path;
       if (!s.write(out, format_tet_mesh(out, m.mesh), "the tet mesh (reference = graph node)")) return kExitInternalError;
-      outputs.set("mesh", out);
+      outputs["mesh"] = out;
     }
     if (auto path = cl.value("--embedding")) {
       const std::string out = all ? numbered(*path, i) : *path;
       if (!s.write(out, dim3::format_embedding3(m.embedding), "the embedding of the input vertices"))
         return kExitInternalError;
-      outputs.set("embedding", out);
+      outputs["embedding"] = out;
     }
-    meshes.push(std::move(entry));
+    meshes.emplace_back(std::move(entry));
   }
   s.set_counts(complex_counts(complex) + ", " + immersion_counts(r) + ", " + plural(total_tets, "tet"));
-  report.set("timings_ms", s.timings_json());
-  if (json_path && !s.write(*json_path, report.dump(), "mesh counts and timings (JSON)")) return kExitInternalError;
+  report["timings_ms"] = s.timings_json();
+  if (json_path && !s.write(*json_path, report.dump(2) + "\n", "mesh counts and timings (JSON)")) return kExitInternalError;
   print_written(s);
   return kExitOk;
 }

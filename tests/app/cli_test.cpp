@@ -5,6 +5,7 @@
 // Each test runs the real executable (IMM_IMMERSE_EXE) with popen in a fresh temporary directory.
 #include <algorithm>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +13,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -108,11 +111,23 @@ std::string limacon_curve() {
   });
 }
 
-/// The integer after `"key": ` (first occurrence), or -1.
+/// The first integer member named `key` of the JSON text, depth-first in document order, or -1.
 long json_integer(const std::string& json, const std::string& key) {
-  std::smatch m;
-  if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9]+)"))) return -1;
-  return std::stol(m[1]);
+  std::function<std::optional<long>(const nlohmann::ordered_json&)> find =
+      [&](const nlohmann::ordered_json& v) -> std::optional<long> {
+    if (v.is_object()) {
+      for (const auto& [k, x] : v.items()) {
+        if (k == key && x.is_number_integer()) return x.get<long>();
+        if (auto found = find(x)) return found;
+      }
+    } else if (v.is_array()) {
+      for (const auto& x : v) {
+        if (auto found = find(x)) return found;
+      }
+    }
+    return std::nullopt;
+  };
+  return find(nlohmann::ordered_json::parse(json)).value_or(-1);
 }
 
 /// The count following a Medit keyword line ("Vertices\n146").
@@ -255,9 +270,14 @@ TEST_F(CliTest, CellsJsonHasExactAreasAndCcwJunctions) {
   const std::string json = read("cells.json");
   EXPECT_EQ(json_integer(json, "arcs"), 10);
   EXPECT_EQ(json_integer(json, "max_winding"), 3);
-  EXPECT_TRUE(std::regex_search(json, std::regex("\"area\": \"-?[0-9]+(/[0-9]+)?\""))) << json.substr(0, 2000);
-  EXPECT_CONTAINS(json, "\"junction_patches_ccw\": [");
-  EXPECT_CONTAINS(json, "\"reversed\": false");
+  const auto cells = nlohmann::json::parse(json);
+  ASSERT_FALSE(cells["regions"].empty());
+  for (const auto& region : cells["regions"]) {
+    EXPECT_TRUE(std::regex_match(region["area"].get<std::string>(), std::regex("-?[0-9]+(/[0-9]+)?"))) << region;
+  }
+  ASSERT_EQ(cells["arcs"].size(), 10u);
+  EXPECT_EQ(cells["arcs"][0]["junction_patches_ccw"].size(), 4u);
+  EXPECT_FALSE(cells["input"]["reversed"].get<bool>());
 }
 
 TEST_F(CliTest, ClockwiseInputIsReversedAndSaysSo) {

@@ -5,6 +5,12 @@
 // the verdicts their SOURCES.md rows imply. No "*.tmp.*" file may be left behind.
 //
 // Each test runs the real executable (IMM_IMMERSE_EXE) with popen in a fresh temporary directory.
+// A missing key read through a const reference throws (instead of nlohmann's assert).
+#include <stdexcept>
+#define JSON_ASSERT(x) \
+  if (!(x)) throw std::runtime_error("JSON: missing key or wrong type: " #x)
+#include <nlohmann/json.hpp>
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -30,156 +36,10 @@ namespace fs = std::filesystem;
 using imm::dim3::Box3;
 using imm::dim3::Surface;
 
-// ---- a small JSON reader: the reports are parsed, not grepped ----------------------------------
+// ---- the reports are parsed (nlohmann-json), not grepped ----------------------------------------
 
-struct JsonValue;
-using JsonArray = std::vector<JsonValue>;
-using JsonObject = std::map<std::string, JsonValue>;
-
-struct JsonValue {
-  std::variant<std::nullptr_t, bool, double, std::string, std::shared_ptr<JsonArray>,
-               std::shared_ptr<JsonObject>>
-      v;
-
-  [[nodiscard]] bool is_null() const { return std::holds_alternative<std::nullptr_t>(v); }
-  [[nodiscard]] double number() const { return std::get<double>(v); }
-  [[nodiscard]] long integer() const { return static_cast<long>(std::get<double>(v)); }
-  [[nodiscard]] bool boolean() const { return std::get<bool>(v); }
-  [[nodiscard]] const std::string& string() const { return std::get<std::string>(v); }
-  [[nodiscard]] const JsonArray& array() const { return *std::get<std::shared_ptr<JsonArray>>(v); }
-  [[nodiscard]] const JsonObject& object() const {
-    return *std::get<std::shared_ptr<JsonObject>>(v);
-  }
-  [[nodiscard]] bool has(const std::string& key) const { return object().count(key) != 0; }
-  const JsonValue& operator[](const std::string& key) const {
-    const auto it = object().find(key);
-    if (it == object().end()) throw std::runtime_error("no key '" + key + "'");
-    return it->second;
-  }
-  const JsonValue& operator[](std::size_t i) const { return array().at(i); }
-};
-
-/// Strict enough for our writer's output (RFC 8259 without \u surrogate pairs); throws on error.
-class JsonParser {
- public:
-  explicit JsonParser(const std::string& text) : s_(text) {}
-
-  JsonValue parse() {
-    JsonValue v = value();
-    skip();
-    if (i_ != s_.size()) fail("trailing text");
-    return v;
-  }
-
- private:
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error("JSON: " + what + " at offset " + std::to_string(i_));
-  }
-  void skip() {
-    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
-  }
-  bool consume(const char* word) {
-    const std::size_t n = std::char_traits<char>::length(word);
-    if (s_.compare(i_, n, word) != 0) return false;
-    i_ += n;
-    return true;
-  }
-  JsonValue value() {
-    skip();
-    if (i_ >= s_.size()) fail("unexpected end");
-    const char c = s_[i_];
-    if (c == '{') return object();
-    if (c == '[') return array();
-    if (c == '"') return JsonValue{string()};
-    if (consume("null")) return JsonValue{nullptr};
-    if (consume("true")) return JsonValue{true};
-    if (consume("false")) return JsonValue{false};
-    std::size_t used = 0;
-    const double d = std::stod(s_.substr(i_, 40), &used);
-    if (used == 0) fail("bad value");
-    i_ += used;
-    return JsonValue{d};
-  }
-  std::string string() {
-    if (s_[i_] != '"') fail("expected a string");
-    ++i_;
-    std::string out;
-    while (i_ < s_.size() && s_[i_] != '"') {
-      if (s_[i_] == '\\') {
-        ++i_;
-        if (i_ >= s_.size()) fail("bad escape");
-        const char e = s_[i_];
-        if (e == 'n')
-          out += '\n';
-        else if (e == 't')
-          out += '\t';
-        else if (e == 'u') {
-          out += '?';
-          i_ += 4;
-        } else
-          out += e;
-        ++i_;
-      } else {
-        out += s_[i_++];
-      }
-    }
-    if (i_ >= s_.size()) fail("unterminated string");
-    ++i_;
-    return out;
-  }
-  JsonValue array() {
-    auto a = std::make_shared<JsonArray>();
-    ++i_;
-    skip();
-    if (i_ < s_.size() && s_[i_] == ']') {
-      ++i_;
-      return JsonValue{a};
-    }
-    while (true) {
-      a->push_back(value());
-      skip();
-      if (i_ < s_.size() && s_[i_] == ',') {
-        ++i_;
-        continue;
-      }
-      if (i_ < s_.size() && s_[i_] == ']') {
-        ++i_;
-        return JsonValue{a};
-      }
-      fail("expected ',' or ']'");
-    }
-  }
-  JsonValue object() {
-    auto o = std::make_shared<JsonObject>();
-    ++i_;
-    skip();
-    if (i_ < s_.size() && s_[i_] == '}') {
-      ++i_;
-      return JsonValue{o};
-    }
-    while (true) {
-      skip();
-      const std::string key = string();
-      skip();
-      if (i_ >= s_.size() || s_[i_] != ':') fail("expected ':'");
-      ++i_;
-      if (!o->emplace(key, value()).second) fail("duplicate key '" + key + "'");
-      skip();
-      if (i_ < s_.size() && s_[i_] == ',') {
-        ++i_;
-        continue;
-      }
-      if (i_ < s_.size() && s_[i_] == '}') {
-        ++i_;
-        return JsonValue{o};
-      }
-      fail("expected ',' or '}'");
-    }
-  }
-
-  const std::string& s_;
-  std::size_t i_ = 0;
-};
+using JsonValue = nlohmann::json;
+using JsonArray = nlohmann::json;
 
 // ---- inputs -------------------------------------------------------------------------------------
 
@@ -270,7 +130,7 @@ class Cli3Test : public testing::Test {
     s << in.rdbuf();
     return s.str();
   }
-  JsonValue read_json(const std::string& name) const { return JsonParser(read(name)).parse(); }
+  JsonValue read_json(const std::string& name) const { return nlohmann::json::parse(read(name)); }
   bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
 
   fs::path dir_;
@@ -368,13 +228,13 @@ TEST_F(Cli3Test, DefectsGoIntoTheJsonReportWithTriangleIds) {
     const Outcome r = run(std::string(command) + " coplanar.obj --json report.json");
     EXPECT_EQ(r.code, 2) << r.output;
     const JsonValue j = read_json("report.json");
-    EXPECT_EQ(j["status"].string(), "invalid-input");
-    EXPECT_EQ(j["input"]["dimension"].integer(), 3);
-    ASSERT_FALSE(j["defects"].array().empty());
+    EXPECT_EQ(j["status"].get<std::string>(), "invalid-input");
+    EXPECT_EQ(j["input"]["dimension"].get<long>(), 3);
+    ASSERT_FALSE(j["defects"].empty());
     bool coplanar = false;
-    for (const JsonValue& d : j["defects"].array()) {
-      EXPECT_FALSE(d["triangles"].array().empty()) << d["message"].string();
-      coplanar = coplanar || d["kind"].string() == "coplanar-overlap";
+    for (const JsonValue& d : j["defects"]) {
+      EXPECT_FALSE(d["triangles"].empty()) << d["message"].get<std::string>();
+      coplanar = coplanar || d["kind"].get<std::string>() == "coplanar-overlap";
     }
     EXPECT_TRUE(coplanar);
   }
@@ -413,7 +273,7 @@ TEST_F(Cli3Test, ExhaustedSearchBudgetExitsWithThree) {
   const Outcome r = run("immersions two.obj --max-states 1 --json budget.json");
   EXPECT_EQ(r.code, 3) << r.output;
   EXPECT_CONTAINS(r.output, "could not be decided: search budget exhausted");
-  EXPECT_EQ(read_json("budget.json")["status"].string(), "search-budget-exhausted");
+  EXPECT_EQ(read_json("budget.json")["status"].get<std::string>(), "search-budget-exhausted");
   EXPECT_EQ(run("immersions two.obj --max-states 1000").code, 0);
 }
 
@@ -437,9 +297,9 @@ TEST_F(Cli3Test, InversionExitsWithThree) {
   EXPECT_CONTAINS(r.output, "is not immersible: a region has winding number -1");
   EXPECT_CONTAINS(r.output, "bounded by triangles");
   const JsonValue j = read_json("inverted.json");
-  EXPECT_EQ(j["status"].string(), "inverted");
-  EXPECT_EQ(j["inversion"]["winding"].integer(), -1);
-  EXPECT_FALSE(j["inversion"]["triangles"].array().empty());
+  EXPECT_EQ(j["status"].get<std::string>(), "inverted");
+  EXPECT_EQ(j["inversion"]["winding"].get<long>(), -1);
+  EXPECT_FALSE(j["inversion"]["triangles"].empty());
   EXPECT_EQ(run("cells inverted.obj").code, 3);
 }
 
@@ -451,41 +311,41 @@ TEST_F(Cli3Test, CellsJsonOfTwoOverlappingBoxesHasExactVolumesAndArcOrder) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_CONTAINS(r.output, "4 regions, 3 cells, 4 patches, 1 arc");
   const JsonValue j = read_json("cells.json");
-  EXPECT_EQ(j["status"].string(), "ok");
-  EXPECT_EQ(j["input"]["dimension"].integer(), 3);
-  EXPECT_EQ(j["input"]["triangles"].integer(), 24);
+  EXPECT_EQ(j["status"].get<std::string>(), "ok");
+  EXPECT_EQ(j["input"]["dimension"].get<long>(), 3);
+  EXPECT_EQ(j["input"]["triangles"].get<long>(), 24);
   const JsonValue& counts = j["counts"];
-  EXPECT_EQ(counts["cells"].integer(), 3);
-  EXPECT_EQ(counts["regions"].integer(), 4);
-  EXPECT_EQ(counts["patches"].integer(), 4);
-  EXPECT_EQ(counts["arcs"].integer(), 1);
-  EXPECT_EQ(counts["max_winding"].integer(), 2);
-  EXPECT_EQ(counts["components"].integer(), 2);
-  EXPECT_TRUE(j["volumes_exact"].boolean());
+  EXPECT_EQ(counts["cells"].get<long>(), 3);
+  EXPECT_EQ(counts["regions"].get<long>(), 4);
+  EXPECT_EQ(counts["patches"].get<long>(), 4);
+  EXPECT_EQ(counts["arcs"].get<long>(), 1);
+  EXPECT_EQ(counts["max_winding"].get<long>(), 2);
+  EXPECT_EQ(counts["components"].get<long>(), 2);
+  EXPECT_TRUE(j["volumes_exact"].get<bool>());
 
   // Volumes by hand: A = 1, B = 1.25 * 1.375 * 1.125 = 495/256, A and B = 0.5 * 0.75 * 0.625
   // = 15/64; A only = 49/64, B only = 435/256. Invariant 1: 1 * 49/64 + 1 * 435/256 + 2 * 15/64
   // = 751/256 = vol A + vol B.
-  EXPECT_EQ(j["winding_weighted_volume_exact"].string(), "751/256");
+  EXPECT_EQ(j["winding_weighted_volume_exact"].get<std::string>(), "751/256");
   std::vector<std::pair<long, std::string>> cells;  // (winding, exact volume)
-  const JsonArray& regions = j["regions"].array();
+  const JsonArray& regions = j["regions"];
   ASSERT_EQ(regions.size(), 4u);
   EXPECT_TRUE(regions[0]["volume"].is_null());  // the unbounded region
-  EXPECT_EQ(regions[0]["winding"].integer(), 0);
-  for (const JsonValue& cell : j["cells"].array()) {
-    const JsonValue& region = regions.at(static_cast<std::size_t>(cell["region"].integer()));
-    EXPECT_EQ(region["winding"].integer(), cell["winding"].integer());
-    EXPECT_EQ(region["cell"].integer(), cell["id"].integer());
-    EXPECT_EQ(region["genus"].integer(), 0);
-    EXPECT_TRUE(region["simply_connected"].boolean());
-    cells.emplace_back(cell["winding"].integer(), region["volume_exact"].string());
+  EXPECT_EQ(regions[0]["winding"].get<long>(), 0);
+  for (const JsonValue& cell : j["cells"]) {
+    const JsonValue& region = regions.at(static_cast<std::size_t>(cell["region"].get<long>()));
+    EXPECT_EQ(region["winding"].get<long>(), cell["winding"].get<long>());
+    EXPECT_EQ(region["cell"].get<long>(), cell["id"].get<long>());
+    EXPECT_EQ(region["genus"].get<long>(), 0);
+    EXPECT_TRUE(region["simply_connected"].get<bool>());
+    cells.emplace_back(cell["winding"].get<long>(), region["volume_exact"].get<std::string>());
     // the double is the exact value rounded (these are dyadic: exactly representable)
-    const std::string& q = region["volume_exact"].string();
+    const std::string& q = region["volume_exact"].get<std::string>();
     const std::size_t slash = q.find('/');
     ASSERT_NE(slash, std::string::npos) << q;
-    EXPECT_EQ(region["volume"].number(),
+    EXPECT_EQ(region["volume"].get<double>(),
               std::stod(q.substr(0, slash)) / std::stod(q.substr(slash + 1)));
-    EXPECT_EQ(cell["b_patches"].array().size(), 2u);
+    EXPECT_EQ(cell["b_patches"].size(), 2u);
   }
   std::vector<std::pair<long, std::string>> expected_cells = {
       {1, "49/64"}, {1, "435/256"}, {2, "15/64"}};
@@ -496,31 +356,31 @@ TEST_F(Cli3Test, CellsJsonOfTwoOverlappingBoxesHasExactVolumesAndArcOrder) {
   // Patches: the winding number drops by one across each, in the direction of its normal
   // (invariant 2); each box is cut into two patches of 36 sub-triangles in all.
   long patch_triangles = 0;
-  for (const JsonValue& p : j["patches"].array()) {
+  for (const JsonValue& p : j["patches"]) {
     const long positive =
-        regions.at(static_cast<std::size_t>(p["positive_region"].integer()))["winding"].integer();
+        regions.at(static_cast<std::size_t>(p["positive_region"].get<long>()))["winding"].get<long>();
     const long negative =
-        regions.at(static_cast<std::size_t>(p["negative_region"].integer()))["winding"].integer();
+        regions.at(static_cast<std::size_t>(p["negative_region"].get<long>()))["winding"].get<long>();
     EXPECT_EQ(negative, positive + 1);
-    EXPECT_GT(p["triangles"].integer(), 0);
-    patch_triangles += p["triangles"].integer();
+    EXPECT_GT(p["triangles"].get<long>(), 0);
+    patch_triangles += p["triangles"].get<long>();
   }
-  EXPECT_EQ(patch_triangles, counts["cut_triangles"].integer());
+  EXPECT_EQ(patch_triangles, counts["cut_triangles"].get<long>());
 
   // The arc: four junctions in cyclic order; junction k's patch separates wedges k-1 and k, and
   // the wedges are the four regions (outside, A only, A and B, B only), each once.
   const JsonValue& arc = j["arcs"][0];
-  EXPECT_TRUE(arc["closed"].boolean());
-  ASSERT_EQ(arc["junction_patches"].array().size(), 4u);
-  ASSERT_EQ(arc["wedge_regions"].array().size(), 4u);
+  EXPECT_TRUE(arc["closed"].get<bool>());
+  ASSERT_EQ(arc["junction_patches"].size(), 4u);
+  ASSERT_EQ(arc["wedge_regions"].size(), 4u);
   std::vector<long> wedges;
   for (std::size_t k = 0; k < 4; ++k) {
     const JsonValue& patch =
-        j["patches"][static_cast<std::size_t>(arc["junction_patches"][k].integer())];
-    const long before = arc["wedge_regions"][(k + 3) % 4].integer(),
-               after = arc["wedge_regions"][k].integer();
-    const long positive = patch["positive_region"].integer(),
-               negative = patch["negative_region"].integer();
+        j["patches"][static_cast<std::size_t>(arc["junction_patches"][k].get<long>())];
+    const long before = arc["wedge_regions"][(k + 3) % 4].get<long>(),
+               after = arc["wedge_regions"][k].get<long>();
+    const long positive = patch["positive_region"].get<long>(),
+               negative = patch["negative_region"].get<long>();
     EXPECT_TRUE((positive == before && negative == after) ||
                 (positive == after && negative == before))
         << "junction " << k;
@@ -528,7 +388,7 @@ TEST_F(Cli3Test, CellsJsonOfTwoOverlappingBoxesHasExactVolumesAndArcOrder) {
   }
   std::sort(wedges.begin(), wedges.end());
   EXPECT_EQ(wedges, (std::vector<long>{0, 1, 2, 3}));
-  EXPECT_TRUE(j["timings_ms"].has("complex"));
+  EXPECT_TRUE(j["timings_ms"].contains("complex"));
 
   // The cut mesh: one group per patch, as many faces as cut triangles.
   const std::string cut = read("cut.obj");
@@ -539,7 +399,7 @@ TEST_F(Cli3Test, CellsJsonOfTwoOverlappingBoxesHasExactVolumesAndArcOrder) {
     faces += line.rfind("f ", 0) == 0;
   }
   EXPECT_EQ(groups, 4);
-  EXPECT_EQ(faces, counts["cut_triangles"].integer());
+  EXPECT_EQ(faces, counts["cut_triangles"].get<long>());
 }
 
 // ---- self-connecting cells and helper boxes -----------------------------------------------
@@ -553,7 +413,7 @@ TEST_F(Cli3Test, SelfConnectingCellIsCutByAHelperBox) {
   EXPECT_CONTAINS(without.output, "is not simply immersible");
   EXPECT_CONTAINS(without.output, "self-connecting");
   EXPECT_CONTAINS(without.output, "helper boxes disabled by --no-helper-boxes");
-  EXPECT_EQ(read_json("without.json")["status"].string(), "self-connecting-cell");
+  EXPECT_EQ(read_json("without.json")["status"].get<std::string>(), "self-connecting-cell");
 
   const Outcome with = run("immersions loop.off --json with.json");
   EXPECT_EQ(with.code, 0) << with.output;
@@ -561,12 +421,12 @@ TEST_F(Cli3Test, SelfConnectingCellIsCutByAHelperBox) {
   EXPECT_CONTAINS(with.output, "helper box 0: [");
   EXPECT_CONTAINS(with.output, "note: cell");
   const JsonValue j = read_json("with.json");
-  EXPECT_EQ(j["status"].string(), "immersible");
-  EXPECT_EQ(j["count"].integer(), 1);
-  ASSERT_EQ(j["helper_boxes"].array().size(), 1u);
-  EXPECT_EQ(j["helper_boxes"][0]["lo"].array().size(), 3u);
-  EXPECT_EQ(j["input"]["input_triangles"].integer(), j["input"]["triangles"].integer());
-  EXPECT_FALSE(j["notes"].array().empty());
+  EXPECT_EQ(j["status"].get<std::string>(), "immersible");
+  EXPECT_EQ(j["count"].get<long>(), 1);
+  ASSERT_EQ(j["helper_boxes"].size(), 1u);
+  EXPECT_EQ(j["helper_boxes"][0]["lo"].size(), 3u);
+  EXPECT_EQ(j["input"]["input_triangles"].get<long>(), j["input"]["triangles"].get<long>());
+  EXPECT_FALSE(j["notes"].empty());
 }
 
 // ---- meshing (paper §7) ---------------------------------------------------------------------------
@@ -577,16 +437,16 @@ TEST_F(Cli3Test, MeshWritesEveryFormatAndTheCountsAgree) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_CONTAINS(r.output, "immersion 0 of 1 meshed: ");
   const JsonValue j = read_json("two.json");
-  EXPECT_EQ(j["status"].string(), "ok");
-  ASSERT_EQ(j["meshes"].array().size(), 1u);
+  EXPECT_EQ(j["status"].get<std::string>(), "ok");
+  ASSERT_EQ(j["meshes"].size(), 1u);
   const JsonValue& counts = j["meshes"][0]["counts"];
-  const long tets = counts["output_tets"].integer();
-  const long vertices = counts["output_vertices"].integer();
+  const long tets = counts["output_tets"].get<long>();
+  const long vertices = counts["output_vertices"].get<long>();
   EXPECT_GT(tets, 0);
   // Two boxes: 3 cells (A only, B only, A and B with winding number 2).
-  ASSERT_EQ(counts["copies_per_cell"].array().size(), 3u);
+  ASSERT_EQ(counts["copies_per_cell"].size(), 3u);
   long sum = 0;
-  for (const JsonValue& n : counts["copies_per_cell"].array()) sum += n.integer();
+  for (const JsonValue& n : counts["copies_per_cell"]) sum += n.get<long>();
   EXPECT_EQ(sum, tets);
   // The Medit file holds exactly the counted vertices and tets, 1-based, each with its node.
   std::istringstream mesh(read("two.mesh"));
@@ -621,18 +481,18 @@ TEST_F(Cli3Test, MeshWritesEveryFormatAndTheCountsAgree) {
   ASSERT_EQ(csg.code, 0) << csg.output;
   const JsonValue csg_json = read_json("csg.json");
   const JsonValue& csg_counts = csg_json["meshes"][0]["counts"];
-  EXPECT_EQ(csg_counts["output_tets"].integer(), tets);
-  EXPECT_EQ(csg_counts["output_vertices"].integer(), vertices);
+  EXPECT_EQ(csg_counts["output_tets"].get<long>(), tets);
+  EXPECT_EQ(csg_counts["output_vertices"].get<long>(), vertices);
   for (std::size_t c = 0; c < 3; ++c)
-    EXPECT_EQ(csg_counts["copies_per_cell"][c].integer(), counts["copies_per_cell"][c].integer());
-  EXPECT_EQ(csg_json["options"]["method"].string(), "csg");
+    EXPECT_EQ(csg_counts["copies_per_cell"][c].get<long>(), counts["copies_per_cell"][c].get<long>());
+  EXPECT_EQ(csg_json["options"]["method"].get<std::string>(), "csg");
   // Exact work in CPU milliseconds: the CSG's is booleans for the most part; two boxes are
   // decided by the clipping's interval filter alone, with no booleans ever.
   const JsonValue& csg_cpu = csg_json["meshes"][0]["virtual_cpu_ms"];
-  EXPECT_GT(csg_cpu["booleans"].number(), 0.0);
-  EXPECT_LE(csg_cpu["booleans"].number(), csg_cpu["exact_arithmetic"].number());
-  EXPECT_EQ(j["meshes"][0]["virtual_cpu_ms"]["booleans"].number(), 0.0);
-  EXPECT_EQ(counts["exact_fallback_tets"].integer() == 0, j["meshes"][0]["virtual_cpu_ms"]["exact_arithmetic"].number() == 0.0);
+  EXPECT_GT(csg_cpu["booleans"].get<double>(), 0.0);
+  EXPECT_LE(csg_cpu["booleans"].get<double>(), csg_cpu["exact_arithmetic"].get<double>());
+  EXPECT_EQ(j["meshes"][0]["virtual_cpu_ms"]["booleans"].get<double>(), 0.0);
+  EXPECT_EQ(counts["exact_fallback_tets"].get<long>() == 0, j["meshes"][0]["virtual_cpu_ms"]["exact_arithmetic"].get<double>() == 0.0);
   ASSERT_EQ(run("mesh two.obj --resolution 6 --threads 1 -o one.mesh").code, 0);
   ASSERT_EQ(run("mesh two.obj --resolution 6 --threads 2 -o both.mesh").code, 0);
   EXPECT_EQ(read("one.mesh"), read("both.mesh"));
@@ -661,12 +521,12 @@ TEST_F(Cli3Test, MeshOfASelfConnectingShapeDropsTheHelperBoxSolid) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_CONTAINS(r.output, "helper-box tets dropped");
   const JsonValue j = read_json("loop.json");
-  EXPECT_EQ(j["helper_boxes"].array().size(), 1u);
+  EXPECT_EQ(j["helper_boxes"].size(), 1u);
   const JsonValue& counts = j["meshes"][0]["counts"];
-  EXPECT_GT(counts["helper_tets_dropped"].integer(), 0);
-  EXPECT_GT(counts["output_tets"].integer(), 0);
+  EXPECT_GT(counts["helper_tets_dropped"].get<long>(), 0);
+  EXPECT_GT(counts["output_tets"].get<long>(), 0);
   // Only the user's vertices are embedded.
-  EXPECT_EQ(counts["embedded_vertices"].integer(), j["input"]["vertices"].integer());
+  EXPECT_EQ(counts["embedded_vertices"].get<long>(), j["input"]["vertices"].get<long>());
 }
 
 TEST_F(Cli3Test, BackgroundThatDoesNotCoverTheInputExitsWithTwo) {
@@ -677,7 +537,7 @@ TEST_F(Cli3Test, BackgroundThatDoesNotCoverTheInputExitsWithTwo) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_CONTAINS(r.output, "not-covered");
   EXPECT_FALSE(exists("far.mesh"));
-  EXPECT_EQ(read_json("far.json")["status"].string(), "invalid-input");
+  EXPECT_EQ(read_json("far.json")["status"].get<std::string>(), "invalid-input");
 }
 
 // ---- generators, usage --------------------------------------------------------------------------
@@ -695,8 +555,8 @@ TEST_F(Cli3Test, GenerateWritesSurfacesInTheFormatOfTheExtension) {
   const Outcome r = run("immersions spheres.off --json spheres.json");
   EXPECT_EQ(r.code, 0) << r.output;
   const JsonValue j = read_json("spheres.json");
-  EXPECT_EQ(j["counts"]["cells"].integer(), 3);
-  EXPECT_EQ(j["count"].integer(), 1);
+  EXPECT_EQ(j["counts"]["cells"].get<long>(), 3);
+  EXPECT_EQ(j["count"].get<long>(), 1);
 
   const Outcome stdout_obj = run("generate sphere 4");
   EXPECT_EQ(stdout_obj.code, 0);
@@ -767,13 +627,13 @@ TEST_F(Cli3RealTest, QuintupleTorusHasThePapersCounts) {
       run("immersions " + file("quintupleTorus.obj") + " --all --json quintuple.json");
   ASSERT_EQ(r.code, 0) << r.output;
   const JsonValue j = read_json("quintuple.json");
-  EXPECT_EQ(j["counts"]["cells"].integer(), 314);
-  EXPECT_EQ(j["counts"]["patches"].integer(), 886);
-  EXPECT_EQ(j["counts"]["arcs"].integer(), 850);
-  EXPECT_EQ(j["counts"]["max_winding"].integer(), 7);
-  EXPECT_EQ(j["count"].integer(), 1);
-  EXPECT_TRUE(j["complete"].boolean());
-  EXPECT_TRUE(j["helper_boxes"].array().empty());
+  EXPECT_EQ(j["counts"]["cells"].get<long>(), 314);
+  EXPECT_EQ(j["counts"]["patches"].get<long>(), 886);
+  EXPECT_EQ(j["counts"]["arcs"].get<long>(), 850);
+  EXPECT_EQ(j["counts"]["max_winding"].get<long>(), 7);
+  EXPECT_EQ(j["count"].get<long>(), 1);
+  EXPECT_TRUE(j["complete"].get<bool>());
+  EXPECT_TRUE(j["helper_boxes"].empty());
   EXPECT_CONTAINS(r.output, "314 cells, 886 patches, 850 arcs, 1 immersion | read");
 }
 
@@ -789,10 +649,10 @@ TEST_F(Cli3RealTest, CombOnItsOwnBackgroundIsMeshedWithTheTranslationSaid) {
   EXPECT_CONTAINS(r.output, "meshed the input translated by (");
   const JsonValue j = read_json("comb.json");
   const JsonValue& m = j["meshes"][0];
-  EXPECT_EQ(m["counts"]["background_tets"].integer(), 5844);
-  EXPECT_GE(m["counts"]["generic_attempts"].integer(), 2);
+  EXPECT_EQ(m["counts"]["background_tets"].get<long>(), 5844);
+  EXPECT_GE(m["counts"]["generic_attempts"].get<long>(), 2);
   double shift = 0.0;
-  for (const JsonValue& x : m["input_shift"].array()) shift = std::max(shift, std::abs(x.number()));
+  for (const JsonValue& x : m["input_shift"]) shift = std::max(shift, std::abs(x.get<double>()));
   EXPECT_GT(shift, 0.0);
   EXPECT_LT(shift, 1e-6);  // about 2^-32 of the comb's diagonal
 }
@@ -809,9 +669,9 @@ TEST_F(Cli3RealTest, EmbeddedAndOverlappingControlsHaveOneImmersion) {
     const Outcome r = run("immersions " + file(c.name) + " --all --json out.json");
     ASSERT_EQ(r.code, 0) << r.output;
     const JsonValue j = read_json("out.json");
-    EXPECT_EQ(j["counts"]["cells"].integer(), c.cells);
-    EXPECT_EQ(j["count"].integer(), 1);
-    EXPECT_TRUE(j["complete"].boolean());
+    EXPECT_EQ(j["counts"]["cells"].get<long>(), c.cells);
+    EXPECT_EQ(j["count"].get<long>(), 1);
+    EXPECT_TRUE(j["complete"].get<bool>());
   }
 }
 
