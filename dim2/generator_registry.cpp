@@ -96,20 +96,10 @@ const GeneratorRegistry<CurveSet>& curve_registry() {
   return kRegistry;
 }
 
-const std::vector<GeneratorInfo>& generator_registry() { return curve_registry().infos(); }
-
-const GeneratorInfo* find_generator(std::string_view name) { return curve_registry().find(name); }
-
-std::vector<CurveGeneratorSummary> curve_generators() { return curve_registry().summaries(); }
-
 GenerateResult generate(std::string_view name, const std::vector<std::string>& arguments) {
   GenerateResult result;
   result.error = curve_registry().generate(name, arguments, result.curves);
   return result;
-}
-
-GenerateResult generate_curves(const std::string& name, const std::vector<std::string>& arguments) {
-  return generate(name, arguments);
 }
 
 }  // namespace imm::dim2

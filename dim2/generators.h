@@ -32,18 +32,9 @@ namespace imm::dim2 {
 
 // ---- the registry (`immerse generate --list`; core/generator_registry.h) -----------------------
 
-using GeneratorParameter = imm::GeneratorParameter;
-using GeneratorInfo = imm::GeneratorInfo;
-using CurveGeneratorSummary = imm::GeneratorSummary;
-
-/// Every curve generator, in the order `--list` prints them (dim2/generator_registry.cpp).
+/// Every curve generator by name, in the order `--list` prints them (dim2/generator_registry.cpp):
+/// find(name), infos(), summaries() for the list.
 const GeneratorRegistry<CurveSet>& curve_registry();
-
-/// Every generator, in the order `--list` prints them.
-const std::vector<GeneratorInfo>& generator_registry();
-
-/// @return the generator with this name, or nullptr.
-const GeneratorInfo* find_generator(std::string_view name);
 
 struct GenerateResult {
   CurveSet curves;
@@ -54,12 +45,6 @@ struct GenerateResult {
 /// Runs a generator by name. `arguments` are the parameters in order, either plain integers
 /// ("3") or "name=value"; missing ones take their defaults.
 GenerateResult generate(std::string_view name, const std::vector<std::string>& arguments);
-
-/// The registry in the shape the command line prints it (`immerse generate --list`).
-std::vector<CurveGeneratorSummary> curve_generators();
-
-/// Same as generate(); the name used by app/cli.cpp.
-GenerateResult generate_curves(const std::string& name, const std::vector<std::string>& arguments);
 
 // ---- the paper's figures -------------------------------------------------------------------
 

@@ -120,16 +120,6 @@ const GeneratorRegistry<Surface>& surface_registry() {
   return kRegistry;
 }
 
-const std::vector<SurfaceGeneratorInfo>& surface_generator_registry() {
-  return surface_registry().infos();
-}
-
-const SurfaceGeneratorInfo* find_surface_generator(std::string_view name) {
-  return surface_registry().find(name);
-}
-
-std::vector<SurfaceGeneratorSummary> surface_generators() { return surface_registry().summaries(); }
-
 SurfaceGenerateResult generate_surface(std::string_view name,
                                        const std::vector<std::string>& arguments) {
   SurfaceGenerateResult result;

@@ -232,23 +232,12 @@ std::vector<Capsule> tree_capsules(int branches, std::uint64_t seed) {
 
 Surface sphere(int n) {
   IMM_ASSERT(n >= 3, "sphere needs n >= 3");
-  Surface out;
-  append(out, unit_sphere(n), odd_motion(0));
-  return out;
+  return moved(unit_sphere(n), odd_motion(0));
 }
 
 Surface torus(int n) {
   IMM_ASSERT(n >= 6, "torus needs n >= 6");
-  Surface out;
-  append(out,
-         revolve_closed(
-             [](double s) {
-               const double a = 2 * kPi * s;
-               return std::array<double, 2>{1 + 0.4 * std::cos(a), 0.4 * std::sin(a)};
-             },
-             n / 2, n),
-         odd_motion(0));
-  return out;
+  return moved(ring_torus(1, 0.4, n / 2, n), odd_motion(0));
 }
 
 Surface two_spheres(int n) {
@@ -293,17 +282,12 @@ Surface two_spheres(int n) {
 Surface two_tori(int n) {
   IMM_ASSERT(n >= 3, "two_tori needs n >= 3");
   constexpr double kLift = 0.15;
-  const Surface ring_torus = revolve_closed(
-      [](double s) {
-        const double a = 2 * kPi * s;
-        return std::array<double, 2>{1 + 0.4 * std::cos(a), 0.4 * std::sin(a)};
-      },
-      n, n);
+  const Surface tube = ring_torus(1, 0.4, n, n);
   Surface out;
-  append(out, ring_torus, odd_motion(0));
+  append(out, tube, odd_motion(0));
   Motion m = odd_motion(1);
   m.shift = plus(m.shift, Point3{1.0, 0.07, kLift});
-  append(out, ring_torus, m);  // turned about its own centre, then moved there
+  append(out, tube, m);  // turned about its own centre, then moved there
   return out;
 }
 
@@ -366,15 +350,7 @@ Surface double_loop_torus(int n) {
 
 Surface sacht_torus(int n, bool large) {
   IMM_ASSERT(n >= 12, "sacht_torus needs n >= 12");
-  Surface out;
-  append(out,
-         revolve_closed(
-             [](double s) {
-               const double a = 2 * kPi * s;
-               return std::array<double, 2>{1 + 0.35 * std::cos(a), 0.35 * std::sin(a)};
-             },
-             n / 2, n),
-         odd_motion(0));
+  Surface out = moved(ring_torus(1, 0.35, n / 2, n), odd_motion(0));
   const int sides = std::max(6, n / 3);
   const int through = large ? 8 : 4;
   for (int k = 0; k < through; ++k) {
@@ -408,12 +384,7 @@ Surface sacht_torus(int n, bool large) {
 Surface quintuple_torus(int n) {
   IMM_ASSERT(n >= 8, "quintuple_torus needs n >= 8");
   Surface out;
-  const Surface ring_torus = revolve_closed(
-      [](double s) {
-        const double a = 2 * kPi * s;
-        return std::array<double, 2>{1 + 0.3 * std::cos(a), 0.3 * std::sin(a)};
-      },
-      n / 2, n);
+  const Surface tube = ring_torus(1, 0.3, n / 2, n);
   std::array<double, 5> angles{};
   for (int k = 0; k < 5; ++k) {
     angles[static_cast<std::size_t>(k)] = 2 * kPi * k / 5 + 0.05 + 0.013 * k;
@@ -422,9 +393,7 @@ Surface quintuple_torus(int n) {
                         {2 * std::cos(a), 2 * std::sin(a), 0.01 * k - 0.02});
     // a slight tilt of each torus, about a horizontal axis
     const Motion tilt = rotation({std::cos(1.9 * k), std::sin(1.9 * k), 0}, 0.02 + 0.013 * k);
-    Surface moved;
-    append(moved, ring_torus, tilt);
-    append(out, moved, m);
+    append(out, moved(tube, tilt), m);
   }
   const int sides = std::max(6, n / 2);
   const int body = std::max(3, 2 * n / 3);
@@ -478,30 +447,20 @@ Surface head(int n) {
 
 Surface limacon_torus(int n) {
   IMM_ASSERT(n >= 12, "limacon_torus needs n >= 12");
-  Surface out;
-  append(out,
-         revolve_closed(
-             [](double s) {
-               const double theta = 2 * kPi * s, r = 1 + 2 * std::cos(theta);
-               return std::array<double, 2>{1.2 + r * std::cos(theta), r * std::sin(theta)};
-             },
-             n, n),
-         odd_motion(0));
-  return out;
+  const auto profile = [](double s) {
+    const double theta = 2 * kPi * s, r = 1 + 2 * std::cos(theta);
+    return std::array<double, 2>{1.2 + r * std::cos(theta), r * std::sin(theta)};
+  };
+  return moved(revolve_closed(profile, n, n), odd_motion(0));
 }
 
 Surface figure_eight_torus(int n) {
   IMM_ASSERT(n >= 12, "figure_eight_torus needs n >= 12");
-  Surface out;
-  append(out,
-         revolve_closed(
-             [](double s) {
-               const double t = 2 * kPi * s;
-               return std::array<double, 2>{1.5 + std::cos(t), std::sin(t) * std::cos(t)};
-             },
-             n, n),
-         odd_motion(0));
-  return out;
+  const auto profile = [](double s) {
+    const double t = 2 * kPi * s;
+    return std::array<double, 2>{1.5 + std::cos(t), std::sin(t) * std::cos(t)};
+  };
+  return moved(revolve_closed(profile, n, n), odd_motion(0));
 }
 
 Surface poke_through(int n) {

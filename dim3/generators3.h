@@ -43,19 +43,6 @@ namespace imm::dim3 {
 
 // ---- the registry (`immerse generate --list`; core/generator_registry.h) -----------------------
 
-using SurfaceGeneratorParameter = imm::GeneratorParameter;
-using SurfaceGeneratorInfo = imm::GeneratorInfo;
-using SurfaceGeneratorSummary = imm::GeneratorSummary;
-
-/// Every surface generator, in the order `--list` prints them (dim3/generator_registry.cpp).
-const GeneratorRegistry<Surface>& surface_registry();
-
-/// Every surface generator's description, in the order `--list` prints them.
-const std::vector<SurfaceGeneratorInfo>& surface_generator_registry();
-
-/// @return the surface generator with this name, or nullptr.
-const SurfaceGeneratorInfo* find_surface_generator(std::string_view name);
-
 struct SurfaceGenerateResult {
   Surface surface;
   std::string error;  ///< unknown name, bad parameter count or range
@@ -68,8 +55,9 @@ struct SurfaceGenerateResult {
 SurfaceGenerateResult generate_surface(std::string_view name,
                                        const std::vector<std::string>& arguments);
 
-/// The registry in the shape the command line prints it (`immerse generate --list`).
-std::vector<SurfaceGeneratorSummary> surface_generators();
+/// Every surface generator by name, in the order `--list` prints them
+/// (dim3/generator_registry.cpp): find(name), infos(), summaries() for the list.
+const GeneratorRegistry<Surface>& surface_registry();
 
 // ---- embedded controls -------------------------------------------------------------------------
 

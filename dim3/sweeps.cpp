@@ -174,4 +174,19 @@ Surface revolve_closed(const std::function<std::array<double, 2>(double)>& profi
   return closed_sweep(rings, sides);
 }
 
+Surface moved(const Surface& part, const Motion& motion) {
+  Surface out;
+  append(out, part, motion);
+  return out;
+}
+
+Surface ring_torus(double major, double minor, int samples, int sides) {
+  return revolve_closed(
+      [major, minor](double s) {
+        const double a = 2 * kPi * s;
+        return std::array<double, 2>{major + minor * std::cos(a), minor * std::sin(a)};
+      },
+      samples, sides);
+}
+
 }  // namespace imm::dim3::sweep

@@ -65,6 +65,9 @@ Motion odd_motion(int k, const Point3& about = {0, 0, 0});
 /// Appends `part` moved by `motion`.
 void append(Surface& out, const Surface& part, const Motion& motion);
 
+/// `part` moved by `motion` (every triangle its own source face).
+Surface moved(const Surface& part, const Motion& motion);
+
 // ---- sweeps ------------------------------------------------------------------------------------
 
 /// A ring of a sweep: `sides` points centre + radius (cos phi u + sin phi v), phi = phase +
@@ -136,5 +139,9 @@ Surface unit_sphere(int n);
 /// `samples` rings of `sides` vertices.
 Surface revolve_closed(const std::function<std::array<double, 2>(double)>& profile, int samples,
                        int sides);
+
+/// The torus of revolution about z with radii `major` > `minor` (tube circle counter-clockwise
+/// in the (rho, z) half plane): `samples` rings of `sides` vertices.
+Surface ring_torus(double major, double minor, int samples, int sides);
 
 }  // namespace imm::dim3::sweep

@@ -157,10 +157,10 @@ std::pair<int, int> winding_range(const Surface& s, int steps) {
 
 TEST(SurfaceGenerators, RegistryIsConsistent) {
   std::set<std::string> names;
-  for (const SurfaceGeneratorInfo& info : surface_generator_registry()) {
+  for (const GeneratorInfo& info : surface_registry().infos()) {
     EXPECT_TRUE(names.insert(info.name).second) << info.name;
-    EXPECT_EQ(find_surface_generator(info.name), &info);
-    for (const SurfaceGeneratorParameter& p : info.parameters) {
+    EXPECT_EQ(surface_registry().find(info.name), &info);
+    for (const GeneratorParameter& p : info.parameters) {
       EXPECT_LE(p.min_value, p.default_value) << info.name << " " << p.name;
       EXPECT_LE(p.default_value, p.max_value) << info.name << " " << p.name;
     }
@@ -172,11 +172,11 @@ TEST(SurfaceGenerators, RegistryIsConsistent) {
        {"sphere", "torus", "two-spheres", "two-tori", "tube-overlap", "helix", "double-loop-torus",
         "sacht-torus", "quintuple-torus", "tree", "head", "limacon-torus", "figure-eight-torus",
         "poke-through", "comb", "mouth", "random-blobs", "perturbed-torus"}) {
-    EXPECT_NE(find_surface_generator(required), nullptr) << required;
+    EXPECT_NE(surface_registry().find(required), nullptr) << required;
   }
-  EXPECT_EQ(find_surface_generator("fig6"), nullptr);  // the 2D names are not surfaces
-  const std::vector<SurfaceGeneratorSummary> list = surface_generators();
-  ASSERT_EQ(list.size(), surface_generator_registry().size());
+  EXPECT_EQ(surface_registry().find("fig6"), nullptr);  // the 2D names are not surfaces
+  const std::vector<GeneratorSummary> list = surface_registry().summaries();
+  ASSERT_EQ(list.size(), surface_registry().infos().size());
   const auto helix =
       std::find_if(list.begin(), list.end(), [](const auto& g) { return g.name == "helix"; });
   ASSERT_NE(helix, list.end());
@@ -204,7 +204,7 @@ TEST(SurfaceGenerators, ArgumentErrors) {
 // ---- validity and size -----------------------------------------------------------------------
 
 TEST(SurfaceGenerators, EveryGeneratorGivesAValidGenericOutwardMesh) {
-  for (const SurfaceGeneratorInfo& info : surface_generator_registry()) {
+  for (const GeneratorInfo& info : surface_registry().infos()) {
     SCOPED_TRACE(info.name);
     const Surface s = make(info.name);
     ASSERT_GT(s.triangle_count(), 0u);
@@ -303,7 +303,7 @@ TEST(SurfaceGenerators, TriangleCountsFollowTheDocumentedFormulas) {
 }
 
 TEST(SurfaceGenerators, Deterministic) {
-  for (const SurfaceGeneratorInfo& info : surface_generator_registry()) {
+  for (const GeneratorInfo& info : surface_registry().infos()) {
     SCOPED_TRACE(info.name);
     EXPECT_EQ(format_obj(make(info.name)), format_obj(make(info.name)));
   }
