@@ -191,7 +191,7 @@ std::vector<CommandSpec> make_command_specs() {
        1, 100'000},
       {"--background", ValueKind::Text, "FILE",
        "a background mesh instead of the grid: 2D a Medit .mesh (Dimension 2); 3D Vega .veg, Medit "
-       ".mesh, TetGen .node/.ele (it must cover the input and meet it generically, else exit 2)"},
+       ".mesh, TetGen .node/.ele, Gmsh .msh 4.1 (it must cover the input and meet it generically, else exit 2)"},
       {"--conforming", ValueKind::Flag, "", "(2D) insert the input as constraints (no triangle is cut by the input)"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (0-based, in the search's order; default 0)", 0,
        1'000'000},
@@ -201,8 +201,9 @@ std::vector<CommandSpec> make_command_specs() {
        "exact booleans per element, polygon sets in 2D, Nef polyhedra in 3D; the same duplication, much "
        "slower)"},
       {"-o", ValueKind::Text, "OUT",
-       "the mesh: 2D Medit .mesh; 3D Medit .mesh, VTK XML .vtu (ParaView) or Vega .veg; the element "
-       "reference is the graph node"},
+       "the mesh: 2D Medit .mesh; 3D Medit .mesh, VTK XML .vtu (ParaView), Vega .veg, Gmsh .msh 4.1 "
+       "(physical group = graph node + 1) or TetGen .node (+ .ele beside it, region = graph node); the "
+       "element reference is the graph node"},
       {"--embedding", ValueKind::Text, "OUT.emb", "per input vertex: output element and barycentric weights"},
       {"--svg", ValueKind::Text, "OUT.svg", "(2D) the output mesh pulled apart by sheet"},
       {"--threads", ValueKind::Integer, "N", "(3D) threads for the virtual tets (0 = all cores; the output is the same)",
@@ -456,22 +457,12 @@ namespace {
 
 // ---- 2D JSON pieces -------------------------------------------------------------------------
 
-Json point_json(const dim2::Point& p) {
-  Json a = Json::array();
-  a.emplace_back(p.x);
-  a.emplace_back(p.y);
-  return a;
-}
+Json point_json(const dim2::Point& p) { return cli::point_json(std::array{p.x, p.y}); }
 
 /// Counts of the complex, shared by every report.
 Json counts_json(const dim2::Complex2& c2) {
   const CellComplex<2>& complex = c2.complex;
-  Json j = Json::object();
-  j["regions"] = complex.region_count();
-  j["cells"] = complex.cell_count();
-  j["patches"] = complex.patch_count();
-  j["arcs"] = complex.arc_count();
-  j["max_winding"] = complex.max_winding_number();
+  Json j = complex_counts_json(complex);
   j["arrangement_vertices"] = c2.arrangement_vertices;
   j["arrangement_edges"] = c2.arrangement_edges;
   j["arrangement_faces"] = c2.arrangement_faces;
@@ -497,7 +488,20 @@ void add_complex_json(Json& j, const dim2::Complex2& c2) {
   cli::add_complex_json(j, complex, hooks);
 }
 
-Json inversion_json(const dim2::Inversion& inv) {
+// ---- input ----------------------------------------------------------------------------------
+
+/// Everything read and built from one input file (see "one prepared input" in cli_common.h).
+struct Prepared {
+  static constexpr const char* kFacetKey = "segments";
+  std::string path;
+  dim2::CurveSet curves;
+  ValidationReport report;                 ///< defects: exit 2
+  std::optional<dim2::Inversion> inversion;///< set: exit 3 (check: a note)
+  std::shared_ptr<dim2::Complex2> complex;
+};
+
+Json inversion_json(const Prepared& p) {
+  const dim2::Inversion& inv = *p.inversion;
   Json j = Json::object();
   j["region"] = inv.region.value();
   j["winding"] = inv.winding_number;
@@ -505,17 +509,6 @@ Json inversion_json(const dim2::Inversion& inv) {
   j["message"] = inv.message;
   return j;
 }
-
-// ---- input ----------------------------------------------------------------------------------
-
-/// Everything read and built from one input file.
-struct Prepared {
-  std::string path;
-  dim2::CurveSet curves;
-  ValidationReport report;                 ///< defects: exit 2
-  std::optional<dim2::Inversion> inversion;///< set: exit 3 (check: a note)
-  std::shared_ptr<dim2::Complex2> complex;
-};
 
 Json input_json(const Prepared& p) {
   Json j = Json::object();
@@ -563,10 +556,6 @@ int prepare_curves(Session& s, Prepared& p) {
   return kExitOk;
 }
 
-void print_inversion(Session& s, const Prepared& p) {
-  s.err() << "immerse: '" << p.path << "' is not immersible: " << p.inversion->message << '\n';
-}
-
 // ---- search ------------------------------------------------------------------------------------
 
 SearchResult run_search(Session& s, const dim2::Complex2& c2, const SearchRequest& request) {
@@ -576,21 +565,6 @@ SearchResult run_search(Session& s, const dim2::Complex2& c2, const SearchReques
 
 Json search_json(const Prepared& p, const SearchResult& r, const Session& s) {
   return cli::search_json(input_json(p), r, s);
-}
-
-/// JSON for an input that never reached the search (defects or inversion).
-Json early_json(const Prepared& p, const Session& s) {
-  Json j = Json::object();
-  j["input"] = input_json(p);
-  if (!p.report.ok()) {
-    j["status"] = "invalid-input";
-    j["defects"] = defects_json(p.report, "segments");
-  } else if (p.inversion) {
-    j["status"] = "inverted";
-    j["inversion"] = inversion_json(*p.inversion);
-  }
-  j["timings_ms"] = s.timings_json();
-  return j;
 }
 
 // ---- generators -----------------------------------------------------------------------------
@@ -672,41 +646,12 @@ std::string format_curves_for(const std::string& path, const dim2::CurveSet& cur
 
 // ---- commands -------------------------------------------------------------------------------
 
-constexpr std::size_t kMaxTableRows = 40;
-
 std::string describe_input(const Prepared& p) {
-  return "'" + p.path + "': 2D input, " + plural(p.curves.curves.size(), "curve") + ", " +
-         plural(p.curves.vertex_count(), "vertex", "vertices");
+  return cli::describe_input(p.path, 2, plural(p.curves.curves.size(), "curve") + ", " +
+                                            plural(p.curves.vertex_count(), "vertex", "vertices"));
 }
 
-Json cells_report_json(const Prepared& p, const Session& s) {
-  Json j = Json::object();
-  j["input"] = input_json(p);
-  j["status"] = "ok";
-  add_complex_json(j, *p.complex);
-  j["timings_ms"] = s.timings_json();
-  return j;
-}
-
-void print_cell_table(Session& s, const dim2::Complex2& c2) {
-  const CellComplex<2>& c = c2.complex;
-  s.out() << plural(c.region_count(), "region") << ", " << plural(c.cell_count(), "cell") << ", "
-          << plural(c.patch_count(), "patch", "patches") << ", " << plural(c.arc_count(), "arc")
-          << " (crossings), max winding number " << c.max_winding_number() << '\n';
-  s.out() << " cell  region  winding  simply-connected          area  B-patches (* = disagrees)\n";
-  std::size_t rows = 0;
-  for (CellId cell : ids<CellId>(c.cell_count())) {
-    if (++rows > kMaxTableRows) {
-      s.out() << " ... and " << (c.cell_count() - kMaxTableRows) << " more cells (see --json)\n";
-      break;
-    }
-    const RegionId r = c.region_of(cell);
-    char line[128];
-    std::snprintf(line, sizeof line, "%5d  %6d  %7d  %16s  %12.6g  ", cell.value(), r.value(), c.winding_number(cell),
-                  c.is_simply_connected(r) ? "yes" : "no", to_double(c.measure(r)));
-    s.out() << line << b_patch_list(c.b_patches(cell)) << '\n';
-  }
-}
+void add_complex_report(Json& j, const Prepared& p) { add_complex_json(j, *p.complex); }
 
 int command_check(Session& s, const CommandLine& cl) {
   s.enable_summary();
@@ -726,22 +671,6 @@ int command_check(Session& s, const CommandLine& cl) {
   return kExitOk;
 }
 
-/// For the commands that need a valid, non-inverted complex: reads, validates and builds it.
-/// On failure prints the verdict, writes the early JSON report when one was asked for, and
-/// @return the exit code (2 invalid input, 3 inverted); kExitOk when the complex is ready.
-int prepare_complex_or_report(Session& s, Prepared& p, const std::optional<std::string>& json_path) {
-  int code = prepare_curves(s, p);
-  if (code == kExitOk && p.inversion) {
-    print_inversion(s, p);
-    code = kExitNotImmersible;
-  }
-  if (code != kExitOk) {
-    if (json_path && !s.write(*json_path, early_json(p, s).dump(2) + "\n", "report")) return kExitInternalError;
-    print_written(s);
-  }
-  return code;
-}
-
 int command_cells(Session& s, const CommandLine& cl) {
   if (is_surface_file(cl.positional[0])) {
     s.enable_summary();
@@ -752,9 +681,9 @@ int command_cells(Session& s, const CommandLine& cl) {
   Prepared p;
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
-  if (const int code = prepare_complex_or_report(s, p, json_path); code != kExitOk) return code;
+  if (const int code = prepare_complex_or_report(s, p, json_path, [&] { return prepare_curves(s, p); }); code != kExitOk) return code;
   s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << '\n';
-  print_cell_table(s, *p.complex);
+  print_cell_table(s, p.complex->complex, "crossings", "", "area");
   if (json_path && !s.write(*json_path, cells_report_json(p, s).dump(2) + "\n", "the cell complex (JSON)")) {
     return kExitInternalError;
   }
@@ -812,7 +741,7 @@ int command_immersions(Session& s, const CommandLine& cl) {
   Prepared p;
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
-  if (const int code = prepare_complex_or_report(s, p, json_path); code != kExitOk) return code;
+  if (const int code = prepare_complex_or_report(s, p, json_path, [&] { return prepare_curves(s, p); }); code != kExitOk) return code;
   const SearchResult r = run_search(s, *p.complex, request);
   s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
   print_search_result(s, p, r, request);
@@ -953,7 +882,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
   Prepared p;
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
-  if (const int code = prepare_complex_or_report(s, p, json_path); code != kExitOk) return code;
+  if (const int code = prepare_complex_or_report(s, p, json_path, [&] { return prepare_curves(s, p); }); code != kExitOk) return code;
   const SearchResult r = run_search(s, *p.complex, request);
   if (r.status != ImmersionStatus::Immersible) {
     s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));

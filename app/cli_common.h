@@ -272,6 +272,130 @@ void add_complex_json(Json& j, const CellComplex<D>& complex, const ComplexJsonH
   }
 }
 
+// ---- one prepared input, either dimension ----------------------------------------------------
+//
+// The commands of both dimensions share these templates. A prepared input P (Prepared in
+// cli.cpp, PreparedSurface in cli_surface.cpp) has `path`, `report`, `inversion` (optional),
+// `complex` (shared_ptr to a Complex2/Complex3 with a `complex` member and `reversed`), and
+// `static constexpr const char* kFacetKey` ("segments" / "triangles"); the few functions that
+// differ are overloads found by argument-dependent lookup on P: input_json(p), inversion_json(p),
+// describe_input(p).
+
+/// Coordinates as a JSON array.
+inline Json point_json(std::span<const double> coordinates) {
+  Json a = Json::array();
+  for (double x : coordinates) a.emplace_back(x);
+  return a;
+}
+
+/// The counts every complex has; the dimension appends its own.
+template <int D>
+Json complex_counts_json(const CellComplex<D>& complex) {
+  Json j = Json::object();
+  j["regions"] = complex.region_count();
+  j["cells"] = complex.cell_count();
+  j["patches"] = complex.patch_count();
+  j["arcs"] = complex.arc_count();
+  j["max_winding"] = complex.max_winding_number();
+  return j;
+}
+
+/// JSON for an input that never reached the search (defects or an inversion).
+template <class P>
+Json early_json(const P& p, const Session& s) {
+  Json j = Json::object();
+  j["input"] = input_json(p);
+  if (!p.report.ok()) {
+    j["status"] = "invalid-input";
+    j["defects"] = defects_json(p.report, P::kFacetKey);
+  } else if (p.inversion) {
+    j["status"] = "inverted";
+    j["inversion"] = inversion_json(p);
+  }
+  j["timings_ms"] = s.timings_json();
+  return j;
+}
+
+template <class P>
+void print_inversion(Session& s, const P& p) {
+  s.err() << "immerse: '" << p.path << "' is not immersible: " << p.inversion->message << '\n';
+}
+
+/// For the commands that need a valid, non-inverted complex: `prepare()` reads, validates and
+/// builds it (returning an exit code). On failure prints the verdict, writes the early JSON report
+/// when one was asked for, and @return the exit code (2 invalid input, 3 inverted); kExitOk when
+/// the complex is ready.
+template <class P, class Prepare>
+int prepare_complex_or_report(Session& s, P& p, const std::optional<std::string>& json_path, Prepare&& prepare) {
+  int code = prepare();
+  if (code == kExitOk && p.inversion) {
+    print_inversion(s, p);
+    code = kExitNotImmersible;
+  }
+  if (code != kExitOk) {
+    if (json_path && !s.write(*json_path, early_json(p, s).dump(2) + "\n", "report")) return kExitInternalError;
+    print_written(s);
+  }
+  return code;
+}
+
+/// `immerse cells --json`: the input, the complex with the dimension's geometry
+/// (add_complex_report(j, p), found by argument-dependent lookup) and the timings.
+template <class P>
+Json cells_report_json(const P& p, const Session& s) {
+  Json j = Json::object();
+  j["input"] = input_json(p);
+  j["status"] = "ok";
+  add_complex_report(j, p);
+  j["timings_ms"] = s.timings_json();
+  return j;
+}
+
+/// "'PATH': 3D input, 12 triangles, 8 vertices" (`counts` after the dimension).
+inline std::string describe_input(const std::string& path, int dimension, const std::string& counts) {
+  return "'" + path + "': " + std::to_string(dimension) + "D input, " + counts;
+}
+
+/// An extra column of the cell table (3D: the genus of the cell's region).
+struct CellTableColumn {
+  std::string header;
+  std::function<std::string(RegionId)> value;
+};
+
+/// The counts line and the table of cells (at most kMaxTableRows rows): id, region, winding,
+/// simple connectivity, measure (`measure` names it: "area", "volume"), B-patches; `arc_kind`
+/// names the arcs ("crossings", "intersection curves"), `detail` is printed after the counts line.
+template <int D>
+void print_cell_table(Session& s, const CellComplex<D>& c, const std::string& arc_kind, const std::string& detail,
+                      const std::string& measure, const std::optional<CellTableColumn>& extra = std::nullopt) {
+  s.out() << plural(c.region_count(), "region") << ", " << plural(c.cell_count(), "cell") << ", "
+          << plural(c.patch_count(), "patch", "patches") << ", " << plural(c.arc_count(), "arc") << " ("
+          << arc_kind << "), max winding number " << c.max_winding_number() << '\n'
+          << detail;
+  char head[160];
+  std::snprintf(head, sizeof head, " cell  region  winding  %s%16s  %12s  B-patches (* = disagrees)\n",
+                extra ? (extra->header + "  ").c_str() : "", "simply-connected", measure.c_str());
+  s.out() << head;
+  std::size_t rows = 0;
+  for (CellId cell : ids<CellId>(c.cell_count())) {
+    if (++rows > kMaxTableRows) {
+      s.out() << " ... and " << (c.cell_count() - kMaxTableRows) << " more cells (see --json)\n";
+      break;
+    }
+    const RegionId r = c.region_of(cell);
+    std::string extra_value;
+    if (extra) {
+      extra_value = extra->value(r);
+      extra_value = std::string(extra->header.size() > extra_value.size() ? extra->header.size() - extra_value.size() : 0, ' ') +
+                    extra_value + "  ";
+    }
+    char line[192];
+    std::snprintf(line, sizeof line, "%5d  %6d  %7d  %s%16s  %12.6g  ", cell.value(), r.value(), c.winding_number(cell),
+                  extra_value.c_str(), c.is_simply_connected(r) ? "yes" : "no", to_double(c.measure(r)));
+    s.out() << line << b_patch_list(c.b_patches(cell)) << '\n';
+  }
+}
+
 // ---- 3D commands (app/cli_surface.cpp) -------------------------------------------------------
 
 /// True when the file is a 3D surface: .off/.ply/.stl, or an OBJ with faces and no 'l' lines.

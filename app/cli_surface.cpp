@@ -50,6 +50,7 @@ using dim3::Point3;
 
 /// Everything read and built from one surface file.
 struct PreparedSurface {
+  static constexpr const char* kFacetKey = "triangles";
   std::string path;
   dim3::Surface surface;
   ValidationReport report;                    ///< defects: exit 2
@@ -57,11 +58,7 @@ struct PreparedSurface {
   std::shared_ptr<Complex3> complex;
 };
 
-Json point_json(const Point3& p) {
-  Json a = Json::array();
-  for (double x : p) a.emplace_back(x);
-  return a;
-}
+Json point_json(const Point3& p) { return cli::point_json(p); }
 
 Json box_json(const Box3& b) {
   Json j = Json::object();
@@ -81,11 +78,12 @@ Json input_json(const PreparedSurface& p) {
 }
 
 std::string describe_input(const PreparedSurface& p) {
-  return "'" + p.path + "': 3D input, " + plural(p.surface.triangle_count(), "triangle") + ", " +
-         plural(p.surface.vertex_count(), "vertex", "vertices");
+  return cli::describe_input(p.path, 3, plural(p.surface.triangle_count(), "triangle") + ", " +
+                                            plural(p.surface.vertex_count(), "vertex", "vertices"));
 }
 
-Json inversion_json(const dim3::Inversion3& inv) {
+Json inversion_json(const PreparedSurface& p) {
+  const dim3::Inversion3& inv = *p.inversion;
   Json j = Json::object();
   j["region"] = inv.region.value();
   j["winding"] = inv.winding_number;
@@ -93,25 +91,6 @@ Json inversion_json(const dim3::Inversion3& inv) {
   for (long t : inv.triangles) triangles.emplace_back(t);
   j["message"] = inv.message;
   return j;
-}
-
-/// JSON for an input that never reached the search (defects or inversion).
-Json early_json(const PreparedSurface& p, const Session& s) {
-  Json j = Json::object();
-  j["input"] = input_json(p);
-  if (!p.report.ok()) {
-    j["status"] = "invalid-input";
-    j["defects"] = defects_json(p.report, "triangles");
-  } else if (p.inversion) {
-    j["status"] = "inverted";
-    j["inversion"] = inversion_json(*p.inversion);
-  }
-  j["timings_ms"] = s.timings_json();
-  return j;
-}
-
-void print_inversion(Session& s, const PreparedSurface& p) {
-  s.err() << "immerse: '" << p.path << "' is not immersible: " << p.inversion->message << '\n';
 }
 
 void print_reversed_note(Session& s, const PreparedSurface& p) {
@@ -159,34 +138,12 @@ int prepare_surface(Session& s, PreparedSurface& p, bool exact_volumes) {
   return kExitOk;
 }
 
-/// As prepare_surface, for the commands that need a non-inverted complex: on failure prints the
-/// verdict, writes the early JSON report when one was asked for, and @return the exit code.
-int prepare_complex_or_report(Session& s, PreparedSurface& p, bool exact_volumes,
-                              const std::optional<std::string>& json_path) {
-  int code = prepare_surface(s, p, exact_volumes);
-  if (code == kExitOk && p.inversion) {
-    print_inversion(s, p);
-    code = kExitNotImmersible;
-  }
-  if (code != kExitOk) {
-    if (json_path && !s.write(*json_path, early_json(p, s).dump(2) + "\n", "report"))
-      return kExitInternalError;
-    print_written(s);
-  }
-  return code;
-}
-
 // ---- cells ------------------------------------------------------------------------------------
 
 Json counts_json(const PreparedSurface& p) {
   const Complex3& c3 = *p.complex;
   const CellComplex<3>& complex = c3.complex;
-  Json j = Json::object();
-  j["regions"] = complex.region_count();
-  j["cells"] = complex.cell_count();
-  j["patches"] = complex.patch_count();
-  j["arcs"] = complex.arc_count();
-  j["max_winding"] = complex.max_winding_number();
+  Json j = complex_counts_json(complex);
   j["triangles"] = p.surface.triangle_count();
   j["vertices"] = p.surface.vertex_count();
   j["components"] = c3.components;
@@ -200,12 +157,10 @@ Json counts_json(const PreparedSurface& p) {
   return j;
 }
 
-Json cells_report_json(const PreparedSurface& p, const Session& s) {
+/// The complex with the 3D geometry: counts, volumes (exact when computed), genus, boxes, curves.
+void add_complex_report(Json& j, const PreparedSurface& p) {
   const Complex3& c3 = *p.complex;
   const CellComplex<3>& complex = c3.complex;
-  Json j = Json::object();
-  j["input"] = input_json(p);
-  j["status"] = "ok";
   j["counts"] = counts_json(p);
   j["volumes_exact"] = c3.exact_volumes;
   Rational total = 0;
@@ -232,36 +187,17 @@ Json cells_report_json(const PreparedSurface& p, const Session& s) {
   };
   hooks.junction_key = "junction_patches";
   add_complex_json(j, complex, hooks);
-  j["timings_ms"] = s.timings_json();
-  return j;
 }
 
 void print_cell_table(Session& s, const PreparedSurface& p) {
   const Complex3& c3 = *p.complex;
-  const CellComplex<3>& c = c3.complex;
-  s.out() << plural(c.region_count(), "region") << ", " << plural(c.cell_count(), "cell") << ", "
-          << plural(c.patch_count(), "patch", "patches") << ", " << plural(c.arc_count(), "arc")
-          << " (intersection curves), max winding number " << c.max_winding_number() << '\n';
-  s.out() << plural(c3.components, "component") << ", "
-          << plural(c3.intersecting_pairs, "intersecting triangle pair") << ", "
-          << plural(c3.intersection_points, "intersection point") << ", "
-          << plural(c3.triple_points, "triple point") << ", "
-          << plural(c3.cut_triangles.size(), "cut triangle") << '\n';
-  s.out() << " cell  region  winding  genus  simply-connected        volume  "
-             "B-patches (* = disagrees)\n";
-  std::size_t rows = 0;
-  for (CellId cell : ids<CellId>(c.cell_count())) {
-    if (++rows > kMaxTableRows) {
-      s.out() << " ... and " << (c.cell_count() - kMaxTableRows) << " more cells (see --json)\n";
-      break;
-    }
-    const RegionId r = c.region_of(cell);
-    char line[160];
-    std::snprintf(line, sizeof line, "%5d  %6d  %7d  %5d  %16s  %12.6g  ", cell.value(), r.value(),
-                  c.winding_number(cell), c3.region_genus[r],
-                  c.is_simply_connected(r) ? "yes" : "no", to_double(c.measure(r)));
-    s.out() << line << b_patch_list(c.b_patches(cell)) << '\n';
-  }
+  const std::string detail = plural(c3.components, "component") + ", " +
+                             plural(c3.intersecting_pairs, "intersecting triangle pair") + ", " +
+                             plural(c3.intersection_points, "intersection point") + ", " +
+                             plural(c3.triple_points, "triple point") + ", " +
+                             plural(c3.cut_triangles.size(), "cut triangle") + "\n";
+  cli::print_cell_table(s, c3.complex, "intersection curves", detail, "volume",
+                        CellTableColumn{"genus", [&](RegionId r) { return std::to_string(c3.region_genus[r]); }});
 }
 
 // ---- immersions ------------------------------------------------------------------------------
@@ -316,10 +252,8 @@ int cells_surface(Session& s, const CommandLine& cl) {
   PreparedSurface p;
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
-  if (const int code = prepare_complex_or_report(s, p, /*exact_volumes=*/true, json_path);
-      code != kExitOk) {
-    return code;
-  }
+  const auto prepare = [&] { return prepare_surface(s, p, /*exact_volumes=*/true); };
+  if (const int code = prepare_complex_or_report(s, p, json_path, prepare); code != kExitOk) return code;
   s.out() << describe_input(p) << (p.complex->reversed ? " (reversed)" : "") << '\n';
   print_cell_table(s, p);
   if (json_path &&
@@ -466,6 +400,7 @@ std::string format_tet_mesh(const std::string& path, const dim3::TetMesh& mesh) 
   const std::string ext = extension_of(path);
   if (ext == ".vtu") return dim3::format_vtu(mesh);
   if (ext == ".veg") return dim3::format_veg(mesh);
+  if (ext == ".msh") return dim3::format_gmsh(mesh);
   return dim3::format_medit_3d(mesh);
 }
 
@@ -509,12 +444,13 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     if (cl.has(option)) return usage_error(s.env(), "mesh", std::string(option) + " is for 2D curves only");
   if (auto path = cl.value("-o")) {
     const std::string ext = extension_of(*path);
-    if (ext != ".mesh" && ext != ".vtu" && ext != ".veg")
-      return usage_error(s.env(), "mesh", "-o " + *path + ": a tet mesh is written as .mesh, .vtu or .veg");
+    if (ext != ".mesh" && ext != ".vtu" && ext != ".veg" && ext != ".msh" && ext != ".node")
+      return usage_error(s.env(), "mesh",
+                         "-o " + *path + ": a tet mesh is written as .mesh, .vtu, .veg, .msh or .node (+ .ele)");
   }
   if (options.background_path && !dim3::is_tet_mesh_extension(*options.background_path))
     return usage_error(s.env(), "mesh", "--background " + *options.background_path +
-                                            ": expected a .veg, .mesh, .node or .ele tet mesh");
+                                            ": expected a .veg, .mesh, .node, .ele or .msh tet mesh");
   s.enable_summary();
   PreparedSurface p;
   p.path = cl.positional[0];
@@ -592,7 +528,16 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     Json& outputs = (entry["outputs"] = Json::object());
     if (auto path = cl.value("-o")) {
       const std::string out = all ? numbered(*path, i) : *path;
-      if (!s.write(out, format_tet_mesh(out, m.mesh), "the tet mesh (reference = graph node)")) return kExitInternalError;
+      if (extension_of(out) == ".node") {
+        // TetGen: two files, OUT.node and OUT.ele (region attribute = graph node).
+        const dim3::TetGenTexts texts = dim3::format_tetgen(m.mesh);
+        const auto [node_path, ele_path] = dim3::tetgen_paths(out);
+        if (!s.write(node_path, texts.node, "the tet mesh's vertices (TetGen)") ||
+            !s.write(ele_path, texts.ele, "the tet mesh's tets (TetGen, region = graph node)"))
+          return kExitInternalError;
+      } else if (!s.write(out, format_tet_mesh(out, m.mesh), "the tet mesh (reference = graph node)")) {
+        return kExitInternalError;
+      }
       outputs["mesh"] = out;
     }
     if (auto path = cl.value("--embedding")) {

@@ -41,6 +41,18 @@ struct SearchOptions {
   double time_limit_seconds = 0.0;
   /// Progress messages (explored states, solutions), called at most a few times per second.
   LogCallback progress;
+  /// Branch on variables that continue a partial sheet (a node that owns a patch or has an edge)
+  /// before variables that would start a new one; within a tier, fewest options first. Off: the
+  /// fewest options over all variables (the order before issue 19). Either way the search is
+  /// exhaustive and finds the same immersions up to copy permutation; only the order and the
+  /// cost differ. On piles of overlapping parts the old order interleaves many partial sheets
+  /// and gets lost (issue 19).
+  bool sheets_first = true;
+  /// Symmetry step during propagation: a node of a partial sheet that must be glued across a
+  /// patch, and whose every candidate partner is an untouched copy identical to the others, is
+  /// glued to the first of them (immersion_rules.h, propagate_sheet_continuation) instead of
+  /// costing one search decision per node.
+  bool continue_sheets = true;
 };
 
 struct SearchStats {

@@ -260,6 +260,16 @@ class Worklist {
   void touch(PatchId p) {
     push_patch(p);
     for (ArcId a : ctx_->patch_arcs[p]) push_arc(a);
+    if (continue_sheets_) push_sheet(p);
+  }
+  /// Also queue touched patches for propagate_sheet_continuation (a search option, not a rule).
+  void set_continue_sheets(bool on) { continue_sheets_ = on; }
+  [[nodiscard]] bool has_sheet() const { return !sheet_.empty(); }
+  PatchId pop_sheet() {
+    const PatchId p = sheet_.back();
+    sheet_.pop_back();
+    sheet_queued_[p.index()] = 0;
+    return p;
   }
   void push_everything() {
     for (PatchId p : ids<PatchId>(ctx_->patch_count())) push_patch(p);
@@ -280,6 +290,8 @@ class Worklist {
     return a;
   }
   void clear() {
+    for (PatchId p : sheet_) sheet_queued_[p.index()] = 0;
+    sheet_.clear();
     for (std::size_t i = patch_head_; i < patches_.size(); ++i) patch_queued_[patches_[i].index()] = 0;
     for (std::size_t i = arc_head_; i < arcs_.size(); ++i) arc_queued_[arcs_[i].index()] = 0;
     patches_.clear();
@@ -288,11 +300,22 @@ class Worklist {
   }
 
  private:
+  void push_sheet(PatchId p) {
+    if (sheet_queued_.empty()) sheet_queued_.assign(ctx_->patch_count(), 0);
+    if (!sheet_queued_[p.index()]) {
+      sheet_queued_[p.index()] = 1;
+      sheet_.push_back(p);
+    }
+  }
+
   const RuleContext* ctx_;
   std::vector<PatchId> patches_;
   std::vector<ArcId> arcs_;
   std::size_t patch_head_ = 0, arc_head_ = 0;
   std::vector<char> patch_queued_, arc_queued_;
+  bool continue_sheets_ = false;
+  std::vector<PatchId> sheet_;  ///< a stack: the newest sheet is continued first
+  std::vector<char> sheet_queued_;
 };
 
 /// The only way the search changes a state: own / decline / connect, each checked against the
@@ -555,6 +578,53 @@ inline bool propagate_rule2(StateEditor& ed, PatchId p) {
     return true;
   };
   return process_side(inner, outer) && (!outer.is_valid() || process_side(outer, inner));
+}
+
+/// Not a rule but a symmetry reduction, used by the search only (SearchOptions::continue_sheets):
+/// a node n that already belongs to a partial sheet (it owns a patch or has an edge) and
+/// declines p without an edge must be glued to a copy m of the cell across p. When every
+/// candidate m (undecided or declined on p, no edge) is a FREE copy (owns nothing, no edge) and
+/// all candidates have identical slots, any two of them are exchanged by an automorphism of the
+/// state that fixes every other node, so gluing n to the first loses no immersion up to copy
+/// permutation (paper §6: the search may start from any copy). This lets propagation grow a
+/// sheet into the pool of untouched copies without a search decision per node.
+inline bool propagate_sheet_continuation(StateEditor& ed, PatchId p) {
+  const RuleContext& ctx = ed.ctx();
+  const SearchState& st = ed.state();
+  const auto is_free = [&](NodeId n) {
+    const int b = ctx.slot_base[n];
+    const int e = b + static_cast<int>(ctx.b_patches[ctx.layout.cell(n)].size());
+    for (int s = b; s < e; ++s) {
+      if (st.slot[s] == kOwned || st.slot[s] >= 0) return false;
+    }
+    return true;
+  };
+  const auto process_side = [&](CellId side, CellId other) {
+    if (!other.is_valid()) return true;
+    for (int n = ctx.first_node(side).value(); n < ctx.node_end(side); ++n) {
+      if (ed.value(NodeId(n), p) != kDeclined || is_free(NodeId(n))) continue;
+      NodeId first;
+      bool symmetric = true;
+      const std::size_t width = ctx.b_patches[other].size();
+      for (int m = ctx.first_node(other).value(); m < ctx.node_end(other) && symmetric; ++m) {
+        const std::int32_t v = ed.value(NodeId(m), p);
+        if (v != kDeclined && v != kUndecided) continue;
+        if (!is_free(NodeId(m))) {
+          symmetric = false;
+        } else if (!first.is_valid()) {
+          first = NodeId(m);
+        } else {
+          const auto a = st.slot.begin() + ctx.slot_base[first];
+          symmetric = std::equal(a, a + static_cast<long>(width), st.slot.begin() + ctx.slot_base[NodeId(m)]);
+        }
+      }
+      if (!symmetric || !first.is_valid()) continue;  // a choice, or Rule 2's conflict
+      if (!ed.connect(NodeId(n), first, p, Reason{0, -1})) return false;
+    }
+    return true;
+  };
+  return process_side(ctx.inner[p], ctx.outer[p]) &&
+         (!ctx.outer[p].is_valid() || process_side(ctx.outer[p], ctx.inner[p]));
 }
 
 // ---- arc propagators ---------------------------------------------------------------------------

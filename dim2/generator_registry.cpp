@@ -86,6 +86,15 @@ GeneratorRegistry<CurveSet> make_registry() {
         [](const std::vector<long>& p) {
           return random_multi(as_int(p[0]), as_int(p[1]), static_cast<std::uint64_t>(p[2]));
         });
+  r.add({"circles-pile",
+         "K circles with centres in a box of 0.8 radius: every pair overlaps (seeded)",
+         {{"k", "circles", 16, 1, 10000},
+          {"seed", "random seed", 1, 0, kMaxSeed},
+          {"n", "vertices per circle", 32, 8, 100000}},
+         "at least 1 immersion (the disks)"},
+        [](const std::vector<long>& p) {
+          return circles_pile(as_int(p[0]), static_cast<std::uint64_t>(p[1]), as_int(p[2]));
+        });
   return r;
 }
 

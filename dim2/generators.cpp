@@ -681,4 +681,24 @@ CurveSet random_multi(int components, int vertices, std::uint64_t seed) {
   });
 }
 
+CurveSet circles_pile(int count, std::uint64_t seed, int samples) {
+  IMM_ASSERT(count >= 1 && samples >= 8, "circles_pile needs count >= 1 and samples >= 8");
+  return first_generic(seed, [&](std::mt19937_64& rng) {
+    constexpr double kRadius = 1 << 18;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    CurveSet set;
+    for (int k = 0; k < count; ++k) {
+      const double cx = 0.8 * kRadius * unit(rng), cy = 0.8 * kRadius * unit(rng);
+      const double phase = 2 * kPi * unit(rng);
+      std::vector<Point> points;
+      for (int i = 0; i < samples; ++i) {
+        const double a = phase + 2 * kPi * i / samples;
+        points.push_back({cx + kRadius * std::cos(a), cy + kRadius * std::sin(a)});
+      }
+      set.curves.push_back(rounded_curve(points, 1.0));
+    }
+    return set;
+  });
+}
+
 }  // namespace imm::dim2

@@ -137,6 +137,13 @@ CurveSet random_polygon(int vertices, std::uint64_t seed);
 /// disjoint disks are an immersion (so at least one exists). Generic as above.
 CurveSet random_multi(int components, int vertices, std::uint64_t seed);
 
+/// A pile of `count` >= 1 counter-clockwise circles (regular `samples`-gons, samples >= 8) of
+/// radius 2^18 whose centres are drawn uniformly from a square of side 0.8 radius, each with a
+/// random phase: every two circles overlap, so winding numbers reach about `count` (issue 19).
+/// Immersible by construction (the disjoint union of the disks): at least 1 immersion.
+/// Generic as random_polygon.
+CurveSet circles_pile(int count, std::uint64_t seed, int samples = 32);
+
 // ---- exact genericity check (CGAL-free) -----------------------------------------------------
 
 struct GenericityReport {

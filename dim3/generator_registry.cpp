@@ -3,6 +3,8 @@
 // entry below; the answers it is checked against live in the tests
 // (tests/support/expected_surface_counts.h).
 #include <cstdint>
+#include <string>
+#include <utility>
 
 #include "dim3/generators3.h"
 
@@ -110,6 +112,27 @@ GeneratorRegistry<Surface> make_registry() {
          {{"n", "size (4n rings of n/2 sides)", 16, 12, 2000}, {"seed", "random seed", 1, 0, kMaxSeed}},
          "at least 1 immersion"},
         [](P p) { return perturbed_torus(as_int(p[0]), as_seed(p[1])); });
+  const auto pile = [&](std::string name, std::string description, std::string part, long k,
+                        long n, long n_min, Surface (*make)(int, std::uint64_t, int)) {
+    r.add({std::move(name),
+           std::move(description),
+           {{"k", std::move(part), k, 1, 10000},
+            {"seed", "random seed", 1, 0, kMaxSeed},
+            {"n", "resolution of each part", n, n_min, 200}},
+           "at least 1 immersion (the parts' solids)"},
+          [make](P p) { return make(as_int(p[0]), as_seed(p[1]), as_int(p[2])); });
+  };
+  pile("spheres-pile", "K spheres of radius 0.5, centres in a cube of side 0.6 (seeded)", "spheres",
+       12, 8, 3, spheres_pile);
+  pile("tori-pile", "K tori (radii 0.5, 0.18), random axes, centres in a cube of side 0.6", "tori",
+       6, 16, 6, tori_pile);
+  r.add({"helix-spheres",
+         "helix (Fig. 13 tube, L loops) inside a pile of K spheres of radius 0.5",
+         {{"k", "spheres", 8, 0, 10000},
+          {"seed", "random seed", 1, 0, kMaxSeed},
+          {"loops", "helix loops", 2, 1, 100}},
+         "at least 1 immersion (the helix tube's and the balls' solids)"},
+        [](P p) { return helix_in_spheres(as_int(p[0]), as_seed(p[1]), as_int(p[2])); });
   return r;
 }
 

@@ -592,6 +592,60 @@ Surface random_blobs(int blobs, std::uint64_t seed, int n) {
   });
 }
 
+namespace {
+
+/// `part` scaled by `scale` about the origin.
+Surface scaled(Surface part, double scale) {
+  for (Point3& p : part.vertices) p = times(scale, p);
+  return part;
+}
+
+/// Appends `part` with a random rotation about the origin, then moved to a random centre in
+/// [lo, hi) (per coordinate).
+void append_randomly(Surface& out, const Surface& part, Random& random, const Point3& lo,
+                     const Point3& hi) {
+  const Point3 axis = random.direction();
+  const double angle = random.uniform(0, 2 * kPi);
+  const Point3 centre{random.uniform(lo[0], hi[0]), random.uniform(lo[1], hi[1]),
+                      random.uniform(lo[2], hi[2])};
+  append(out, part, rotation(axis, angle, centre));
+}
+
+}  // namespace
+
+Surface spheres_pile(int count, std::uint64_t seed, int n) {
+  IMM_ASSERT(count >= 1 && n >= 3, "spheres_pile needs count >= 1, n >= 3");
+  const Surface ball = scaled(unit_sphere(n), 0.5);
+  return first_generic(seed, [&](Random& random) {
+    Surface out;
+    for (int k = 0; k < count; ++k) append_randomly(out, ball, random, {0, 0, 0}, {0.6, 0.6, 0.6});
+    return out;
+  });
+}
+
+Surface tori_pile(int count, std::uint64_t seed, int n) {
+  IMM_ASSERT(count >= 1 && n >= 6, "tori_pile needs count >= 1, n >= 6");
+  const Surface ring = ring_torus(0.5, 0.18, n / 2, n);
+  return first_generic(seed, [&](Random& random) {
+    Surface out;
+    for (int k = 0; k < count; ++k) append_randomly(out, ring, random, {0, 0, 0}, {0.6, 0.6, 0.6});
+    return out;
+  });
+}
+
+Surface helix_in_spheres(int count, std::uint64_t seed, int loops, int n) {
+  IMM_ASSERT(count >= 0 && loops >= 1 && n >= 3, "helix_in_spheres needs loops >= 1, n >= 3");
+  const Surface coil = helix(loops, 12);
+  const Surface ball = scaled(unit_sphere(n), 0.5);
+  return first_generic(seed, [&](Random& random) {
+    Surface out = coil;
+    for (int k = 0; k < count; ++k) {
+      append_randomly(out, ball, random, {-1, -1, 0}, {1, 1, 0.4 * loops});
+    }
+    return out;
+  });
+}
+
 Surface perturbed_torus(int n, std::uint64_t seed) {
   IMM_ASSERT(n >= 12, "perturbed_torus needs n >= 12");
   return first_generic(seed, [&](Random& random) {

@@ -205,4 +205,17 @@ Surface random_blobs(int blobs, std::uint64_t seed, int n = 10);
 /// `n` >= 12: 4 n rings of n / 2 sides: 8 n (n / 2) triangles. Checked generic.
 Surface perturbed_torus(int n, std::uint64_t seed);
 
+/// Piles of mutually overlapping closed parts (issue 19), seeded, each part with a random
+/// rotation: immersible by construction (the disjoint union of the parts' solids), so at least
+/// 1 immersion; winding numbers reach about the number of parts.
+/// `count` >= 1 spheres of radius 0.5 (unit_sphere(n) scaled: 2n sides, n - 1 rings) whose
+/// centres are uniform in a cube of side 0.6: every two overlap.
+Surface spheres_pile(int count, std::uint64_t seed, int n = 8);
+/// `count` >= 1 tori (major radius 0.5, minor 0.18; n segments around the axis, n / 2 around
+/// the tube) with random orientations and centres uniform in a cube of side 0.6.
+Surface tori_pile(int count, std::uint64_t seed, int n = 16);
+/// helix(loops, 12) (the Fig. 13 tube coiled `loops` >= 1 times, radius 1, pitch 0.4) inside a
+/// pile of `count` spheres of radius 0.5 whose centres are uniform in [-1, 1]^2 x [0, 0.4 loops].
+Surface helix_in_spheres(int count, std::uint64_t seed, int loops = 2, int n = 6);
+
 }  // namespace imm::dim3

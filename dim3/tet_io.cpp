@@ -1,4 +1,5 @@
-// Readers (Vega .veg, Medit .mesh, TetGen .node/.ele) and writers (.mesh, .vtu, .veg) of
+// Readers (Vega .veg, Medit .mesh, TetGen .node/.ele, Gmsh .msh 4.1) and writers (.mesh, .vtu,
+// .veg, .msh, .node/.ele) of
 // tetrahedral meshes (dim3/tet_mesh.h): the background meshes a user may pass to the meshing step
 // and the unglued output.
 //
@@ -313,6 +314,296 @@ void parse_ele(std::string_view text, RawMesh& raw, Defects& defects) {
     to_zero_based(raw);  // numbered like the .node file
 }
 
+// ---- Gmsh .msh 4.1 (ASCII) ---------------------------------------------------------------------
+
+/// Gmsh's 4-node tetrahedron and 10-node (second order) tetrahedron, whose corners come first.
+constexpr long long kGmshTet = 4;
+constexpr long long kGmshTet10 = 11;
+
+struct GmshNode {
+  long long tag = 0;
+  Point3 point{};
+  std::uint64_t line = 0;
+};
+struct GmshTet {
+  long long tag = 0;
+  std::array<long long, 4> nodes{};  ///< node tags
+  long long entity = 0;
+  std::uint64_t line = 0;
+};
+
+void parse_gmsh(std::string_view text, RawMesh& raw, Defects& defects) {
+  const std::string& file = raw.vertex_file;
+  Tokens tokens(text, {TokenRules::Hash::Text});
+  auto bad = [&](std::uint64_t line, const std::string& message) {
+    defects.add(DefectKind::Unreadable, at(file, line) + message);
+  };
+  auto integer = [&](long long& value) {
+    const auto t = tokens.next();
+    const auto v = t ? parse_integer(*t) : std::nullopt;
+    if (v) value = *v;
+    return v.has_value();
+  };
+  auto real = [&](double& value) {
+    const auto t = tokens.next();
+    const auto v = t ? parse_double(*t) : std::nullopt;
+    if (v) value = *v;
+    return v.has_value();
+  };
+  bool saw_format = false;
+  bool saw_nodes = false;
+  bool saw_elements = false;
+  std::map<long long, long long> volume_physical;  // volume entity tag -> first physical tag
+  std::vector<GmshNode> nodes;
+  std::vector<GmshTet> tets;
+  while (const auto token = tokens.next()) {
+    const std::uint64_t line = tokens.line();
+    if (token->front() != '$') {
+      bad(line, "expected a section ('$MeshFormat', '$Nodes', '$Elements', ...), found " +
+                    quoted(*token));
+      return;
+    }
+    const std::string section(token->substr(1));
+    if (!saw_format && section != "MeshFormat") {
+      bad(line, "expected '$MeshFormat' first, found " + quoted(*token));
+      return;
+    }
+    if (section == "MeshFormat") {
+      const auto version = tokens.next();
+      long long file_type = -1;
+      long long data_size = 0;
+      if (!version || !integer(file_type) || !integer(data_size)) {
+        bad(line, "expected 'version file-type data-size' after '$MeshFormat'");
+        return;
+      }
+      if (*version != "4.1") {
+        bad(tokens.line(), "only Gmsh .msh version 4.1 is read, found version " +
+                               quoted(*version) + " (in Gmsh: Mesh.MshFileVersion = 4.1)");
+        return;
+      }
+      if (file_type != 0) {
+        bad(tokens.line(), "a binary .msh is not read: save it as ASCII (in Gmsh: Mesh.Binary = 0)");
+        return;
+      }
+      saw_format = true;
+    } else if (section == "Entities") {
+      long long counts[4] = {};
+      for (long long& c : counts) {
+        if (!integer(c) || c < 0) {
+          bad(tokens.line(), "expected 'numPoints numCurves numSurfaces numVolumes' after '$Entities'");
+          return;
+        }
+      }
+      for (int dim = 0; dim < 4; ++dim) {
+        for (long long i = 0; i < counts[dim]; ++i) {
+          long long tag = 0;
+          long long physical_count = 0;
+          double ignored = 0;
+          bool ok = integer(tag);
+          for (int k = 0; k < (dim == 0 ? 3 : 6) && ok; ++k) ok = real(ignored);
+          ok = ok && integer(physical_count) && physical_count >= 0;
+          std::optional<long long> first_physical;
+          for (long long k = 0; k < physical_count && ok; ++k) {
+            long long physical = 0;
+            ok = integer(physical);
+            if (ok && k == 0) first_physical = physical;
+          }
+          long long bounding = 0;
+          if (ok && dim > 0) ok = integer(bounding) && bounding >= 0;
+          for (long long k = 0, bounding_tag = 0; k < bounding && ok; ++k) ok = integer(bounding_tag);
+          if (!ok) {
+            bad(tokens.line(), "expected entity " + std::to_string(i) + " of dimension " +
+                                   std::to_string(dim) + " in '$Entities' (tag, bounding box, physical tags" +
+                                   (dim > 0 ? ", bounding entities)" : ")"));
+            return;
+          }
+          if (dim == 3 && first_physical) volume_physical[tag] = *first_physical;
+        }
+      }
+    } else if (section == "PartitionedEntities") {
+      bad(line, "a partitioned .msh is not read: save the mesh unpartitioned");
+      return;
+    } else if (section == "Nodes") {
+      if (saw_nodes) return bad(line, "a second '$Nodes' section");
+      saw_nodes = true;
+      long long blocks = 0, count = 0, min_tag = 0, max_tag = 0;
+      if (!integer(blocks) || !integer(count) || !integer(min_tag) || !integer(max_tag) ||
+          blocks < 0 || count < 0) {
+        bad(line, "expected 'numEntityBlocks numNodes minNodeTag maxNodeTag' after '$Nodes'");
+        return;
+      }
+      reserve_records(nodes, count, text, 8);
+      for (long long b = 0; b < blocks; ++b) {
+        long long dim = 0, entity = 0, parametric = 0, n = 0;
+        if (!integer(dim) || !integer(entity) || !integer(parametric) || !integer(n) || n < 0) {
+          bad(tokens.line(), "expected node block " + std::to_string(b) +
+                                 " as 'entityDim entityTag parametric numNodesInBlock'");
+          return;
+        }
+        const std::size_t first = nodes.size();
+        for (long long i = 0; i < n; ++i) {
+          GmshNode node;
+          if (!integer(node.tag)) {
+            bad(tokens.line(), "expected " + std::to_string(n) + " node tags in node block " +
+                                   std::to_string(b));
+            return;
+          }
+          nodes.push_back(node);
+        }
+        for (long long i = 0; i < n; ++i) {
+          GmshNode& node = nodes[first + static_cast<std::size_t>(i)];
+          const auto x = tokens.next();
+          node.line = tokens.line();
+          const auto value = x ? parse_double(*x) : std::nullopt;
+          if (!value) {
+            if (!x) return truncated(defects, file, "nodes", static_cast<long long>(first) + i, count, line);
+            bad(node.line, "expected the coordinates 'x y z' of node tag " + std::to_string(node.tag) +
+                               ", found " + quoted(*x));
+            return;
+          }
+          node.point[0] = *value;
+          bool ok = true;
+          for (int k = 1; k < 3 && ok; ++k) {
+            const auto c = tokens.next_on_line();
+            const auto v = c ? parse_double(*c) : std::nullopt;
+            ok = v.has_value();
+            if (ok) node.point[k] = *v;
+          }
+          if (!ok) {
+            bad(node.line, "expected the coordinates 'x y z' of node tag " + std::to_string(node.tag));
+            return;
+          }
+          tokens.skip_line();  // parametric coordinates
+        }
+      }
+      if (static_cast<long long>(nodes.size()) != count) {
+        bad(line, "'$Nodes' announces " + std::to_string(count) + " nodes, its blocks hold " +
+                      std::to_string(nodes.size()));
+        return;
+      }
+    } else if (section == "Elements") {
+      if (saw_elements) return bad(line, "a second '$Elements' section");
+      saw_elements = true;
+      long long blocks = 0, count = 0, min_tag = 0, max_tag = 0;
+      if (!integer(blocks) || !integer(count) || !integer(min_tag) || !integer(max_tag) ||
+          blocks < 0 || count < 0) {
+        bad(line, "expected 'numEntityBlocks numElements minElementTag maxElementTag' after '$Elements'");
+        return;
+      }
+      long long seen = 0;
+      for (long long b = 0; b < blocks; ++b) {
+        long long dim = 0, entity = 0, type = 0, n = 0;
+        if (!integer(dim) || !integer(entity) || !integer(type) || !integer(n) || n < 0) {
+          bad(tokens.line(), "expected element block " + std::to_string(b) +
+                                 " as 'entityDim entityTag elementType numElementsInBlock'");
+          return;
+        }
+        const bool tet = type == kGmshTet || type == kGmshTet10;
+        if (tet) reserve_records(tets, n, text, 10);
+        tokens.skip_line();
+        for (long long e = 0; e < n; ++e, ++seen) {
+          GmshTet t;
+          const auto tag_token = tokens.next();
+          if (!tag_token) return truncated(defects, file, "elements", seen, count, line);
+          t.line = tokens.line();
+          const auto tag = parse_integer(*tag_token);
+          if (!tag) {
+            bad(t.line, "expected an element tag in element block " + std::to_string(b) +
+                            ", found " + quoted(*tag_token));
+            return;
+          }
+          t.tag = *tag;
+          t.entity = entity;
+          bool ok = true;
+          for (int k = 0; k < 4 && tet && ok; ++k) {
+            const auto v = tokens.next_on_line();
+            const auto node = v ? parse_integer(*v) : std::nullopt;
+            ok = node.has_value();
+            if (ok) t.nodes[k] = *node;
+          }
+          if (!ok) {
+            bad(t.line, "expected element tag " + std::to_string(t.tag) +
+                            " as 'elementTag n0 n1 n2 n3' (node tags)");
+            return;
+          }
+          if (tet) tets.push_back(t);
+          tokens.skip_line();  // the rest of a 10-node tet, or an element of another type
+        }
+      }
+      if (seen != count) {
+        bad(line, "'$Elements' announces " + std::to_string(count) + " elements, its blocks hold " +
+                      std::to_string(seen));
+        return;
+      }
+    } else {
+      // $PhysicalNames, $Periodic, $NodeData, $Comments, ...: nothing a tet mesh needs.
+      const std::string end = "$End" + section;
+      auto t = tokens.next();
+      while (t && *t != end) t = tokens.next();
+      if (!t) return bad(line, "'" + std::string(*token) + "' has no '" + end + "'");
+      continue;
+    }
+    const auto end = tokens.next();
+    if (!end || *end != "$End" + section) {
+      bad(end ? tokens.line() : line, "expected '$End" + section + "', found " +
+                                          quoted(end.value_or("end of file")));
+      return;
+    }
+  }
+  if (!saw_nodes || !saw_elements) {
+    defects.add(DefectKind::Empty,
+                file + " has no '" + std::string(saw_nodes ? "$Elements" : "$Nodes") + "' section");
+    return;
+  }
+  // Vertices in node-tag order, tets in element-tag order (the writer's output order).
+  std::stable_sort(nodes.begin(), nodes.end(),
+                   [](const GmshNode& a, const GmshNode& b) { return a.tag < b.tag; });
+  std::stable_sort(tets.begin(), tets.end(),
+                   [](const GmshTet& a, const GmshTet& b) { return a.tag < b.tag; });
+  for (std::size_t i = 1; i < nodes.size(); ++i) {
+    if (nodes[i].tag == nodes[i - 1].tag)
+      return bad(nodes[i].line, "node tag " + std::to_string(nodes[i].tag) +
+                                    " is also defined on line " + std::to_string(nodes[i - 1].line));
+  }
+  for (std::size_t i = 1; i < tets.size(); ++i) {
+    if (tets[i].tag == tets[i - 1].tag)
+      return bad(tets[i].line, "element tag " + std::to_string(tets[i].tag) +
+                                   " is also used on line " + std::to_string(tets[i - 1].line));
+  }
+  const bool one_based = !nodes.empty() && nodes.front().tag == 1 &&
+                         nodes.back().tag == static_cast<long long>(nodes.size());
+  raw.index_base = one_based ? 1 : 0;
+  for (const GmshNode& node : nodes) {
+    raw.vertices.push_back(node.point);
+    raw.vertex_line.push_back(node.line);
+  }
+  for (const GmshTet& t : tets) {
+    std::array<long long, 4> tet{};
+    for (int k = 0; k < 4; ++k) {
+      const auto it = std::lower_bound(
+          nodes.begin(), nodes.end(), t.nodes[k],
+          [](const GmshNode& node, long long tag) { return node.tag < tag; });
+      if (it == nodes.end() || it->tag != t.nodes[k]) {
+        defects.add(DefectKind::OutOfRange,
+                    at(file, t.line) + "tet element tag " + std::to_string(t.tag) +
+                        " refers to node tag " + std::to_string(t.nodes[k]) +
+                        ", which '$Nodes' does not define",
+                    {static_cast<long>(&t - tets.data())}, {}, {});
+        return;
+      }
+      // 0-based indices as finish() expects them after to_zero_based().
+      tet[k] = (it - nodes.begin()) + raw.index_base;
+    }
+    const auto physical = volume_physical.find(t.entity);
+    raw.tets.push_back(tet);
+    raw.reference.push_back(physical == volume_physical.end()
+                                ? -1
+                                : static_cast<int>(physical->second - 1));
+    raw.tet_line.push_back(t.line);
+  }
+  to_zero_based(raw);
+}
+
 // ---- common ------------------------------------------------------------------------------------
 
 std::optional<std::string> read_file(const std::string& path, Defects& defects) {
@@ -399,8 +690,15 @@ void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
 
 }  // namespace
 
+std::array<std::string, 2> tetgen_paths(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  const std::string given = std::filesystem::path(path).extension().string();
+  const std::string stem = std::filesystem::path(path).replace_extension().string();
+  return {stem + (ext == ".node" ? given : ".node"), stem + (ext == ".ele" ? given : ".ele")};
+}
+
 bool is_tet_mesh_extension(const std::string& path) {
-  return has_extension(path, {".veg", ".mesh", ".node", ".ele"});
+  return has_extension(path, {".veg", ".mesh", ".node", ".ele", ".msh"});
 }
 
 TetReadResult read_tet_mesh(const std::string& path) {
@@ -411,14 +709,12 @@ TetReadResult read_tet_mesh(const std::string& path) {
   raw.vertex_file = raw.tet_file = path;
   if (!is_tet_mesh_extension(path)) {
     defects.add(DefectKind::Unreadable, "cannot read '" + path + "': unknown tet mesh extension '" +
-                                            ext + "' (expected .veg, .mesh, .node or .ele)");
+                                            ext + "' (expected .veg, .mesh, .node, .ele or .msh)");
   } else if (ext == ".node" || ext == ".ele") {
     // TetGen: the vertices and the tets are two files with the same stem.
-    const std::filesystem::path stem = std::filesystem::path(path).replace_extension();
-    raw.vertex_file = stem.string() +
-                      (ext == ".node" ? std::filesystem::path(path).extension().string() : ".node");
-    raw.tet_file =
-        stem.string() + (ext == ".ele" ? std::filesystem::path(path).extension().string() : ".ele");
+    const auto [node_path, ele_path] = tetgen_paths(path);
+    raw.vertex_file = node_path;
+    raw.tet_file = ele_path;
     const auto node = read_file(raw.vertex_file, defects);
     const auto ele = read_file(raw.tet_file, defects);
     if (node && ele) {
@@ -429,6 +725,8 @@ TetReadResult read_tet_mesh(const std::string& path) {
     if (ext == ".veg") {
       raw.index_base = 1;
       parse_veg(*text, raw, defects);
+    } else if (ext == ".msh") {
+      parse_gmsh(*text, raw, defects);
     } else {
       parse_medit(*text, raw, defects);
     }
@@ -507,6 +805,86 @@ std::string format_veg(const TetMesh& mesh) {
     out += std::to_string(t + 1);
     for (int v : tet) out += ' ' + std::to_string(v + 1ll);
     out += '\n';
+  }
+  return out;
+}
+
+std::string format_gmsh(const TetMesh& mesh) {
+  auto reference = [&](std::size_t t) { return t < mesh.reference.size() ? mesh.reference[t] : 0; };
+  // One volume entity per distinct reference (entity tag = its rank + 1), with its box.
+  std::map<int, std::vector<std::size_t>> tets_of;  // reference -> tets, in output order
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) tets_of[reference(t)].push_back(t);
+  if (tets_of.empty() && !mesh.vertices.empty()) tets_of[0];  // an entity to classify nodes on
+  std::string out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n";
+  out.reserve(mesh.vertices.size() * 64 + mesh.tets.size() * 48);
+  std::size_t named = 0;
+  for (const auto& entry : tets_of) named += entry.first >= 0;
+  out += "$PhysicalNames\n" + std::to_string(named) + "\n";
+  for (const auto& entry : tets_of) {
+    if (entry.first < 0) continue;
+    out += "3 " + std::to_string(entry.first + 1ll) + " \"node " + std::to_string(entry.first) + "\"\n";
+  }
+  out += "$EndPhysicalNames\n$Entities\n0 0 0 " + std::to_string(tets_of.size()) + "\n";
+  std::size_t entity = 0;
+  for (const auto& [ref, tets] : tets_of) {
+    Point3 lo{0, 0, 0}, hi{0, 0, 0};
+    bool first = true;
+    for (std::size_t t : tets) {
+      for (int v : mesh.tets[t]) {
+        const Point3& p = mesh.vertices[v];
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = first ? p[k] : std::min(lo[k], p[k]);
+          hi[k] = first ? p[k] : std::max(hi[k], p[k]);
+        }
+        first = false;
+      }
+    }
+    out += std::to_string(++entity) + ' ' + format_xyz(lo) + ' ' + format_xyz(hi) +
+           (ref >= 0 ? " 1 " + std::to_string(ref + 1ll) : std::string(" 0")) + " 0\n";
+  }
+  out += "$EndEntities\n$Nodes\n";
+  const std::size_t n = mesh.vertices.size();
+  out += n == 0 ? std::string("0 0 0 0\n")
+                : "1 " + std::to_string(n) + " 1 " + std::to_string(n) + "\n3 1 0 " +
+                      std::to_string(n) + "\n";
+  for (std::size_t v = 0; v < n; ++v) out += std::to_string(v + 1) + '\n';
+  for (const Point3& p : mesh.vertices) out += format_xyz(p) + '\n';
+  out += "$EndNodes\n$Elements\n";
+  const std::size_t m = mesh.tets.size();
+  std::size_t blocks = 0;
+  for (const auto& entry : tets_of) blocks += !entry.second.empty();
+  out += std::to_string(blocks) + ' ' + std::to_string(m) + ' ' + std::to_string(m ? 1 : 0) + ' ' +
+         std::to_string(m) + '\n';
+  entity = 0;
+  for (const auto& entry : tets_of) {
+    ++entity;
+    if (entry.second.empty()) continue;
+    out += "3 " + std::to_string(entity) + " 4 " + std::to_string(entry.second.size()) + '\n';
+    for (std::size_t t : entry.second) {
+      out += std::to_string(t + 1);
+      for (int v : mesh.tets[t]) out += ' ' + std::to_string(v + 1ll);
+      out += '\n';
+    }
+  }
+  out += "$EndElements\n";
+  return out;
+}
+
+TetGenTexts format_tetgen(const TetMesh& mesh) {
+  TetGenTexts out;
+  out.node = "# " + std::to_string(mesh.vertices.size()) + " vertices (TetGen .node, 1-based)\n" +
+             std::to_string(mesh.vertices.size()) + " 3 0 0\n";
+  out.node.reserve(mesh.vertices.size() * 64);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+    out.node += std::to_string(v + 1) + ' ' + format_xyz(mesh.vertices[v]) + '\n';
+  out.ele = "# " + std::to_string(mesh.tets.size()) +
+            " tets (TetGen .ele, 1-based; region attribute = reference)\n" +
+            std::to_string(mesh.tets.size()) + " 4 1\n";
+  out.ele.reserve(mesh.tets.size() * 48);
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    out.ele += std::to_string(t + 1);
+    for (int v : mesh.tets[t]) out.ele += ' ' + std::to_string(v + 1ll);
+    out.ele += ' ' + std::to_string(t < mesh.reference.size() ? mesh.reference[t] : 0) + '\n';
   }
   return out;
 }

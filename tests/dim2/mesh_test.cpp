@@ -27,6 +27,10 @@
 #include "support/random_curves.h"
 
 namespace imm::dim2 {
+
+// dim2/generators.h (not included: its exact turning_number would clash with this file's).
+CurveSet circles_pile(int count, std::uint64_t seed, int samples);
+
 namespace {
 
 // ---- exact geometry on doubles (every double is a rational) ----------------------------------
@@ -568,6 +572,20 @@ CurveSet random_band(std::uint64_t seed) {
   for (int k = 0; k <= steps; ++k) pts.push_back(at(total * k / steps, half_width));
   for (int k = steps; k >= 0; --k) pts.push_back(at(total * k / steps, -half_width));
   return one(std::move(pts));
+}
+
+/// Issue 19: the first immersion of a pile of mutually overlapping circles (default search,
+/// not an enumeration) meshes with every invariant.
+TEST(Mesh2, CirclesPileFirstImmersion) {
+  for (std::uint64_t seed : {1u, 2u}) {
+    SCOPED_TRACE(testing::Message() << "circles-pile 6 seed " << seed);
+    Prepared p{circles_pile(6, seed, 16), {}, {}};
+    p.built = build_complex(p.curves);
+    ASSERT_TRUE(p.built.report.ok()) << p.built.report.summary();
+    p.search = find_immersions(p.built.complex->complex);
+    ASSERT_EQ(p.search.immersions.size(), 1u);
+    check_all(p, 24, std::nullopt);
+  }
 }
 
 TEST(Mesh2, RandomBands) {

@@ -688,6 +688,8 @@ INSTANTIATE_TEST_SUITE_P(
                     Input{"random_blobs_4_3", "random-blobs", {"4", "3"}, "", 12},
                     Input{"perturbed_torus_1", "perturbed-torus", {"16", "1"}, "", 32},
                     Input{"perturbed_torus_2", "perturbed-torus", {"16", "2"}, "", 32},
+                    Input{"spheres_pile_4_1", "spheres-pile", {"4", "1", "5"}, "", 12},
+                    Input{"helix_spheres_2_1", "helix-spheres", {"2", "1", "1"}, "", 16},
                     Input{"real_TinyTorus", "", {}, "3d/TinyTorus.obj", 16},
                     Input{"real_two_spheres", "", {}, "3d/two_spheres.stl", 8},
                     Input{"real_self_intersectA", "", {}, "3d/self_intersectA.obj", 16},

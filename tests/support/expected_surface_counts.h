@@ -99,6 +99,10 @@ inline const std::map<std::string, Derivation, std::less<>>& derivations() {
       {"mouth", kEmbedded},
       {"random-blobs", [](P) { return at_least_one(); }},
       {"perturbed-torus", [](P) { return at_least_one(); }},
+      // Piles of overlapping closed parts: the disjoint union of the parts' solids.
+      {"spheres-pile", [](P) { return at_least_one(); }},
+      {"tori-pile", [](P) { return at_least_one(); }},
+      {"helix-spheres", [](P) { return at_least_one(); }},
   };
   return kDerivations;
 }

@@ -1,0 +1,119 @@
+// BM_SearchPile*: the first immersion of piles of mutually overlapping parts (issue 19), per size
+// and per seed, so that BENCHMARKS.md can report the worst seed and not only the median.
+//  - BM_SearchPile2/k/seed: dim2::circles_pile(k, seed, 32): k circles whose centres lie in a
+//    square of side 0.8 radius (every two overlap; winding numbers up to about k).
+//  - BM_SearchPile3/k/seed: dim3::spheres_pile(k, seed, 8): k spheres of radius 0.5 whose centres
+//    lie in a cube of side 0.6.
+//  - BM_SearchPile2Classic/k/seed and BM_SearchPile3Classic/k/seed: the same inputs with the
+//    search order before issue 19 (SearchOptions::sheets_first and continue_sheets off), for
+//    the sizes where it still finishes within its time budget.
+// The complex is built outside the timed loop (one iteration: the 3D builds take seconds); the
+// timed region is one find_immersions call with the default first-immersion options and a
+// time limit of kTimeLimit seconds. Counters: the size of the complex (cells, patches, arcs,
+// nodes = sum of winding numbers, max_w) and the work (states, branches, dead_ends, probes);
+// found = 0 means the time limit stopped the search.
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <tuple>
+
+#include "core/graph_search.h"
+#include "dim2/complex2.h"
+#include "dim2/generators.h"
+#include "dim3/complex3.h"
+#include "dim3/generators3.h"
+
+namespace imm::bench {
+namespace {
+
+constexpr double kTimeLimit = 60.0;
+
+template <int D>
+void report(benchmark::State& state, const CellComplex<D>& complex, const SearchResult& result) {
+  std::size_t nodes = 0;
+  for (CellId c : ids<CellId>(complex.cell_count()))
+    nodes += static_cast<std::size_t>(complex.winding_number(c));
+  state.counters["cells"] = static_cast<double>(complex.cell_count());
+  state.counters["patches"] = static_cast<double>(complex.patch_count());
+  state.counters["arcs"] = static_cast<double>(complex.arc_count());
+  state.counters["nodes"] = static_cast<double>(nodes);
+  state.counters["max_w"] = static_cast<double>(complex.max_winding_number());
+  state.counters["states"] = static_cast<double>(result.stats.states);
+  state.counters["branches"] = static_cast<double>(result.stats.branches);
+  state.counters["dead_ends"] = static_cast<double>(result.stats.dead_ends);
+  state.counters["probes"] = static_cast<double>(result.stats.probes);
+  state.counters["found"] = result.status == ImmersionStatus::Immersible ? 1.0 : 0.0;
+  state.counters["search_s"] = result.stats.seconds;
+}
+
+template <int D>
+void run(benchmark::State& state, const CellComplex<D>& complex, bool classic) {
+  SearchOptions options;
+  options.time_limit_seconds = kTimeLimit;
+  if (classic) {
+    options.sheets_first = false;
+    options.continue_sheets = false;
+  }
+  SearchResult result;
+  for (auto _ : state) {
+    result = find_immersions(complex, options);
+    benchmark::DoNotOptimize(result.immersions.data());
+  }
+  report(state, complex, result);
+  if (result.status != ImmersionStatus::Immersible) state.SkipWithError("no immersion within the time limit");
+}
+
+void pile2(benchmark::State& state, bool classic) {
+  const int k = static_cast<int>(state.range(0));
+  const auto seed = static_cast<std::uint64_t>(state.range(1));
+  const dim2::BuildResult built = dim2::build_complex(dim2::circles_pile(k, seed, 32));
+  if (!built.complex || !built.report.ok() || built.inversion) {
+    state.SkipWithError("the pile did not build");
+    return;
+  }
+  run(state, built.complex->complex, classic);
+}
+
+void pile3(benchmark::State& state, bool classic) {
+  const int k = static_cast<int>(state.range(0));
+  const auto seed = static_cast<std::uint64_t>(state.range(1));
+  dim3::BuildOptions3 options;
+  options.exact_volumes = false;  // the search does not read volumes
+  const dim3::BuildResult3 built = dim3::build_complex3(dim3::spheres_pile(k, seed, 8), options);
+  if (!built.complex || !built.report.ok() || built.inversion) {
+    state.SkipWithError("the pile did not build");
+    return;
+  }
+  run(state, built.complex->complex, classic);
+}
+
+void BM_SearchPile2(benchmark::State& state) { pile2(state, false); }
+void BM_SearchPile2Classic(benchmark::State& state) { pile2(state, true); }
+void BM_SearchPile3(benchmark::State& state) { pile3(state, false); }
+void BM_SearchPile3Classic(benchmark::State& state) { pile3(state, true); }
+
+BENCHMARK(BM_SearchPile2)
+    ->ArgNames({"k", "seed"})
+    ->ArgsProduct({{16, 24, 32, 48, 64, 96, 128}, {1, 2, 3, 4, 5}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SearchPile2Classic)
+    ->ArgNames({"k", "seed"})
+    ->ArgsProduct({{16, 24}, {1, 2, 3, 4, 5}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SearchPile3)
+    ->ArgNames({"k", "seed"})
+    ->ArgsProduct({{8, 12, 16, 24, 32, 48, 64}, {1, 2, 3, 4, 5}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SearchPile3Classic)
+    ->ArgNames({"k", "seed"})
+    ->ArgsProduct({{8, 12}, {1, 2, 3, 4, 5}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace imm::bench
