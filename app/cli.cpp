@@ -674,11 +674,11 @@ struct Generated {
 
 std::vector<GeneratorEntry> generator_list() {
   std::vector<GeneratorEntry> out;
-  for (const auto& g : dim2::curve_generators()) out.push_back({g.name, g.params, g.description});
+  for (const auto& g : dim2::curve_registry().summaries()) out.push_back({g.name, g.params, g.description});
   return out;
 }
 Generated generate_named(const std::string& name, const std::vector<std::string>& params) {
-  auto g = dim2::generate_curves(name, params);
+  auto g = dim2::generate(name, params);
   return {std::move(g.curves), std::move(g.error)};
 }
 constexpr const char* kDefaultInput = "fig6";
@@ -1057,7 +1057,7 @@ int command_generate(Session& s, const CommandLine& cl) {
   if (cl.positional.empty()) return usage_error(s.env(), "generate", "missing generator name");
   const std::string& name = cl.positional[0];
   const std::vector<std::string> params(cl.positional.begin() + 1, cl.positional.end());
-  if (dim2::find_generator(name) == nullptr && is_surface_generator(name)) {
+  if (dim2::curve_registry().find(name) == nullptr && is_surface_generator(name)) {
     return command_generate_surface(s, name, params, cl.value("-o"));
   }
   Generated g;

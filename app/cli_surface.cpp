@@ -608,12 +608,12 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
 
 std::vector<GeneratorEntry> surface_generator_list() {
   std::vector<GeneratorEntry> out;
-  for (const auto& g : dim3::surface_generators()) out.push_back({g.name, g.params, g.description});
+  for (const auto& g : dim3::surface_registry().summaries()) out.push_back({g.name, g.params, g.description});
   return out;
 }
 
 bool is_surface_generator(const std::string& name) {
-  return dim3::find_surface_generator(name) != nullptr;
+  return dim3::surface_registry().find(name) != nullptr;
 }
 
 int command_generate_surface(Session& s, const std::string& name,

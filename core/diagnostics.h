@@ -80,10 +80,3 @@ using LogCallback = std::function<void(const std::string&)>;
     if (!(cond)) ::imm::fail_invariant(#cond, (msg), __FILE__, __LINE__); \
   } while (false)
 
-#if defined(IMM_EXPENSIVE_CHECKS) || !defined(NDEBUG)
-#define IMM_EXPENSIVE_ASSERT(cond, msg) IMM_ASSERT(cond, msg)
-#else
-#define IMM_EXPENSIVE_ASSERT(cond, msg) \
-  do {                                  \
-  } while (false)
-#endif

@@ -1,51 +1,41 @@
-// Per-dimension facts the dimension-generic core may name. The core never branches on the
-// dimension: whatever differs between 2D and 3D lives here or in dim2/ and dim3/.
+// What differs between the dimensions and the dimension-generic code needs to name. The core
+// never branches on the dimension: whatever differs between 2D and 3D lives here or in dim2/
+// and dim3/. Element arity is D + 1 and facet arity D, written as such where needed.
 //
-// The CGAL point and element types of each dimension live in dim2/kernel.h and dim3/kernel.h, not
-// here, so that core/ compiles without the (slow) exact-kernel headers.
+// The CGAL point and element types of each dimension live in dim2/kernel.h and dim3/ (the exact
+// kernel), not here, so that core/ compiles without the (slow) exact-kernel headers.
 #pragma once
 
-#include <array>
 #include <concepts>
 #include <string_view>
-
-#include "core/ids.h"
 
 namespace imm {
 
 template <int D>
 struct DimTraits;
 
-/// d = 2: the input is a set of closed polygons, facets are segments, elements are triangles.
+/// d = 2: the input is a set of closed polygons, the elements are triangles.
 template <>
 struct DimTraits<2> {
   static constexpr int kDim = 2;
-  using FacetVerts = std::array<VertexId, 2>;
-  using ElementVerts = std::array<VertexId, 3>;
-  static constexpr std::string_view kFacetName = "segment";
-  static constexpr std::string_view kElementName = "triangle";
-  static constexpr std::string_view kMeasureName = "area";
+  static constexpr std::string_view kElementName = "triangle";  ///< in messages
+  static constexpr std::string_view kMeditElements = "Triangles";  ///< core/medit.h section
 };
 
-/// d = 3: the input is a closed triangle mesh, facets are triangles, elements are tetrahedra.
+/// d = 3: the input is a closed triangle mesh, the elements are tetrahedra.
 template <>
 struct DimTraits<3> {
   static constexpr int kDim = 3;
-  using FacetVerts = std::array<VertexId, 3>;
-  using ElementVerts = std::array<VertexId, 4>;
-  static constexpr std::string_view kFacetName = "triangle";
-  static constexpr std::string_view kElementName = "tetrahedron";
-  static constexpr std::string_view kMeasureName = "volume";
+  static constexpr std::string_view kElementName = "tet";
+  static constexpr std::string_view kMeditElements = "Tetrahedra";
 };
 
-/// The interface the core relies on.
+/// The dimensions the library is built for (core/instantiate.cpp instantiates both).
 template <class T>
 concept ImmersionDim = requires {
   { T::kDim } -> std::convertible_to<int>;
-  typename T::FacetVerts;
-  typename T::ElementVerts;
-  requires std::tuple_size_v<typename T::FacetVerts> == T::kDim;
-  requires std::tuple_size_v<typename T::ElementVerts> == T::kDim + 1;
+  { T::kElementName } -> std::convertible_to<std::string_view>;
+  { T::kMeditElements } -> std::convertible_to<std::string_view>;
 };
 
 static_assert(ImmersionDim<DimTraits<2>>);

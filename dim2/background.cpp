@@ -22,6 +22,8 @@
 #include <limits>
 #include <sstream>
 
+#include "core/medit.h"
+#include "core/text_io.h"
 #include "dim2/cut_curve.h"
 #include "dim2/kernel.h"
 #include "dim2/mesh2_detail.h"
@@ -222,106 +224,46 @@ Defect make_defect(DefectKind kind, std::string message) {
 
 TriangleMesh read_medit_2d(const std::string& path, ValidationReport& report) {
   TriangleMesh mesh;
-  std::ifstream in(path);
-  if (!in) {
-    report.add(make_defect(DefectKind::Unreadable, "cannot open background mesh '" + path + "'"));
-    return mesh;
-  }
-  // Medit is a whitespace-separated keyword format; '#' starts a comment.
-  std::vector<std::string> tokens;
-  for (std::string line; std::getline(in, line);) {
-    if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-    std::istringstream words(line);
-    for (std::string w; words >> w;) tokens.push_back(w);
-  }
-  std::size_t pos = 0;
   auto fail = [&](const std::string& why) {
-    report.add(make_defect(DefectKind::Unreadable, "background mesh '" + path + "': " + why));
+    report.add(make_defect(DefectKind::Unreadable, "background mesh: " + why));
     return TriangleMesh{};
   };
-  auto next_number = [&](auto& value) -> bool {
-    if (pos >= tokens.size()) return false;
-    std::istringstream is(tokens[pos++]);
-    is >> value;
-    return !is.fail() && is.eof();
-  };
-  int dimension = 0;
-  bool has_vertices = false;
-  while (pos < tokens.size()) {
-    std::string keyword = tokens[pos++];
-    std::transform(keyword.begin(), keyword.end(), keyword.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (keyword == "end") break;
-    if (keyword == "meshversionformatted") {
-      int version = 0;
-      if (!next_number(version)) return fail("bad MeshVersionFormatted");
-    } else if (keyword == "dimension") {
-      if (!next_number(dimension)) return fail("bad Dimension");
-      if (dimension != 2)
-        return fail("Dimension " + std::to_string(dimension) + ", expected a 2D mesh (Dimension 2)");
-    } else if (keyword == "vertices") {
-      if (dimension != 2) return fail("Vertices before 'Dimension 2'");
-      long n = 0;
-      if (!next_number(n) || n < 0) return fail("bad vertex count");
-      if (static_cast<std::size_t>(n) > (tokens.size() - pos) / 3)  // before allocating for it
-        return fail("the file ends before its " + std::to_string(n) + " vertices");
-      mesh.vertices.resize(static_cast<std::size_t>(n));
-      long far = 0;  // vertices beyond the range (the first 10 are listed)
-      for (long i = 0; i < n; ++i) {
-        long ref = 0;
-        Point& p = mesh.vertices[static_cast<std::size_t>(i)];
-        if (!next_number(p.x) || !next_number(p.y) || !next_number(ref))
-          return fail("bad vertex " + std::to_string(i + 1));
-        if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
-          Defect d = make_defect(DefectKind::NonFinite,
-                                 "background vertex " + std::to_string(i) + " is not finite");
-          d.vertices = {i};
-          report.add(std::move(d));
-        } else if (!(std::abs(p.x) <= kMaxCoordinate2 && std::abs(p.y) <= kMaxCoordinate2) && ++far <= 10) {
-          Defect d = make_defect(DefectKind::OutOfRange, "background vertex " + std::to_string(i) + " " +
-                                                             format_point(p) +
-                                                             " lies beyond the 2D coordinate range |x|, |y| <= 1e75");
-          d.vertices = {i};
-          report.add(std::move(d));
-        }
-      }
-      has_vertices = true;
-    } else if (keyword == "triangles") {
-      if (!has_vertices) return fail("Triangles before Vertices");
-      long n = 0;
-      if (!next_number(n) || n < 0) return fail("bad triangle count");
-      for (long i = 0; i < n; ++i) {
-        std::array<long, 3> v{};
-        long ref = 0;
-        if (!next_number(v[0]) || !next_number(v[1]) || !next_number(v[2]) || !next_number(ref))
-          return fail("bad triangle " + std::to_string(i + 1));
-        std::array<int, 3> tri{};
-        for (int k = 0; k < 3; ++k) {
-          if (v[k] < 1 || v[k] > static_cast<long>(mesh.vertices.size()))
-            return fail("triangle " + std::to_string(i + 1) + " has vertex index " +
-                        std::to_string(v[k]) + " out of 1.." + std::to_string(mesh.vertices.size()));
-          tri[k] = static_cast<int>(v[k] - 1);
-        }
-        mesh.triangles.push_back(tri);
-        mesh.reference.push_back(static_cast<int>(ref));
-      }
-    } else {
-      // Sections we accept and ignore: count, then a fixed number of integers per entry.
-      static const std::pair<const char*, int> kSkipped[] = {
-          {"edges", 3},         {"corners", 1},         {"requiredvertices", 1},
-          {"ridges", 1},        {"requirededges", 1},   {"requiredtriangles", 1},
-          {"quadrilaterals", 5}};
-      int per_entry = -1;
-      for (const auto& [name, count] : kSkipped)
-        if (keyword == name) per_entry = count;
-      if (per_entry < 0) return fail("unknown keyword '" + tokens[pos - 1] + "'");
-      long n = 0;
-      if (!next_number(n) || n < 0) return fail("bad count after '" + tokens[pos - 1] + "'");
-      if (static_cast<std::size_t>(n) > (tokens.size() - pos) / static_cast<std::size_t>(per_entry))
-        return fail("truncated section '" + keyword + "'");
-      const std::size_t skip = static_cast<std::size_t>(n) * static_cast<std::size_t>(per_entry);
-      pos += skip;
+  std::string error;
+  const std::optional<std::string> text = text::read_file(path, error);
+  if (!text) return fail(error);
+  MeditMesh<2> medit;
+  if (error = parse_medit<2>(*text, path, medit); !error.empty()) return fail(error);
+  long far = 0;  // vertices beyond the range (the first 10 are listed)
+  for (std::size_t i = 0; i < medit.vertices.size(); ++i) {
+    const auto [x, y] = medit.vertices[i];
+    mesh.vertices.push_back({x, y});
+    if (!std::isfinite(x) || !std::isfinite(y)) {
+      Defect d = make_defect(DefectKind::NonFinite,
+                             "background vertex " + std::to_string(i) + " is not finite");
+      d.vertices = {static_cast<long>(i)};
+      report.add(std::move(d));
+    } else if (!(std::abs(x) <= kMaxCoordinate2 && std::abs(y) <= kMaxCoordinate2) && ++far <= 10) {
+      Defect d = make_defect(DefectKind::OutOfRange, "background vertex " + std::to_string(i) + " " +
+                                                         format_point(mesh.vertices.back()) +
+                                                         " lies beyond the 2D coordinate range |x|, |y| <= 1e75");
+      d.vertices = {static_cast<long>(i)};
+      report.add(std::move(d));
     }
+  }
+  const auto n = static_cast<long long>(mesh.vertices.size());
+  for (std::size_t i = 0; i < medit.elements.size(); ++i) {
+    std::array<int, 3> tri{};
+    for (int k = 0; k < 3; ++k) {
+      const long long v = medit.elements[i][k];
+      if (v < 0 || v >= n) {
+        return fail(text::at(path, medit.element_line[i]) + "triangle " + std::to_string(i + 1) +
+                    " has vertex index " + std::to_string(v + 1) + " out of 1.." +
+                    std::to_string(n));
+      }
+      tri[k] = static_cast<int>(v);
+    }
+    mesh.triangles.push_back(tri);
+    mesh.reference.push_back(medit.reference[i]);
   }
   if (mesh.triangles.empty()) {
     report.add(make_defect(DefectKind::Empty, "background mesh '" + path + "' has no triangles"));
@@ -349,18 +291,10 @@ TriangleMesh read_medit_2d(const std::string& path, ValidationReport& report) {
 }
 
 std::string format_medit_2d(const TriangleMesh& mesh) {
-  std::ostringstream os;
-  os << std::setprecision(std::numeric_limits<double>::max_digits10);
-  os << "MeshVersionFormatted 2\nDimension 2\nVertices\n" << mesh.vertices.size() << '\n';
-  for (const Point& p : mesh.vertices) os << p.x << ' ' << p.y << " 0\n";
-  os << "Triangles\n" << mesh.triangles.size() << '\n';
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const auto& t = mesh.triangles[i];
-    const int ref = i < mesh.reference.size() ? mesh.reference[i] : 0;
-    os << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << ' ' << ref << '\n';
-  }
-  os << "End\n";
-  return os.str();
+  std::vector<std::array<double, 2>> vertices;
+  vertices.reserve(mesh.vertices.size());
+  for (const Point& p : mesh.vertices) vertices.push_back({p.x, p.y});
+  return format_medit<2>(vertices, mesh.triangles, mesh.reference);
 }
 
 namespace detail {

@@ -25,37 +25,16 @@
 #include <string_view>
 #include <vector>
 
+#include "core/generator_registry.h"
 #include "dim2/curves.h"
 
 namespace imm::dim2 {
 
-// ---- the registry (`immerse generate --list`) ------------------------------------------------
+// ---- the registry (`immerse generate --list`; core/generator_registry.h) -----------------------
 
-/// One integer parameter of a generator.
-struct GeneratorParameter {
-  std::string name;
-  std::string description;
-  long default_value = 0;
-  long min_value = 0;
-  long max_value = 0;
-};
-
-struct GeneratorInfo {
-  std::string name;         ///< "fig6", "doodle", ...
-  std::string description;  ///< one line
-  std::vector<GeneratorParameter> parameters;
-  /// Known number of (pairwise non-isomorphic, simple) immersions for the default parameters:
-  /// 0 = none (exit 3), -1 = not stated (random inputs).
-  int expected_immersions = -1;
-  /// A short note on the known answer ("Catalan(K) immersions", "inversion", ...).
-  std::string expected_note;
-};
-
-/// Every generator, in the order `--list` prints them.
-const std::vector<GeneratorInfo>& generator_registry();
-
-/// @return the generator with this name, or nullptr.
-const GeneratorInfo* find_generator(std::string_view name);
+/// Every curve generator by name, in the order `--list` prints them (dim2/generator_registry.cpp):
+/// find(name), infos(), summaries() for the list.
+const GeneratorRegistry<CurveSet>& curve_registry();
 
 struct GenerateResult {
   CurveSet curves;
@@ -66,18 +45,6 @@ struct GenerateResult {
 /// Runs a generator by name. `arguments` are the parameters in order, either plain integers
 /// ("3") or "name=value"; missing ones take their defaults.
 GenerateResult generate(std::string_view name, const std::vector<std::string>& arguments);
-
-/// The registry in the shape the command line prints it (`immerse generate --list`): name,
-/// parameter synopsis ("K=2", "N=20 SEED=1") and the description with the known answer.
-struct CurveGeneratorSummary {
-  std::string name;
-  std::string params;
-  std::string description;
-};
-std::vector<CurveGeneratorSummary> curve_generators();
-
-/// Same as generate(); the name used by app/cli.cpp.
-GenerateResult generate_curves(const std::string& name, const std::vector<std::string>& arguments);
 
 // ---- the paper's figures -------------------------------------------------------------------
 

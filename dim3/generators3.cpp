@@ -1,240 +1,19 @@
 #include "dim3/generators3.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/box_intersection_d.h>
-#include <CGAL/intersections.h>
-
 #include <algorithm>
 #include <array>
-#include <cctype>
-#include <charconv>
 #include <cmath>
 #include <functional>
-#include <numbers>
 #include <unordered_map>
 
 #include "core/diagnostics.h"
+#include "dim3/sweeps.h"
 
 namespace imm::dim3 {
+
+using namespace sweep;  // NOLINT(google-build-using-namespace): the shapes are built from sweeps
+
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr int kCapRings = 3;  ///< rings of a rounded cap (then the pole)
-
-// ---- vectors and rigid motions ----------------------------------------------------------------
-
-Point3 plus(const Point3& a, const Point3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Point3 minus(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Point3 times(double s, const Point3& a) { return {s * a[0], s * a[1], s * a[2]}; }
-double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Point3 cross(const Point3& a, const Point3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double length(const Point3& a) { return std::sqrt(dot(a, a)); }
-Point3 normalized(const Point3& a) { return times(1.0 / length(a), a); }
-
-/// x -> rotation * x + shift.
-struct Motion {
-  std::array<Point3, 3> rows{Point3{1, 0, 0}, Point3{0, 1, 0}, Point3{0, 0, 1}};
-  Point3 shift{0, 0, 0};
-  [[nodiscard]] Point3 apply(const Point3& p) const {
-    return {dot(rows[0], p) + shift[0], dot(rows[1], p) + shift[1], dot(rows[2], p) + shift[2]};
-  }
-};
-
-/// Rotation by `angle` about `axis` (Rodrigues), then the shift.
-Motion rotation(const Point3& axis, double angle, const Point3& shift = {0, 0, 0}) {
-  const Point3 k = normalized(axis);
-  const double c = std::cos(angle), s = std::sin(angle), t = 1 - c;
-  Motion m;
-  m.rows = {Point3{c + t * k[0] * k[0], t * k[0] * k[1] - s * k[2], t * k[0] * k[2] + s * k[1]},
-            Point3{t * k[1] * k[0] + s * k[2], c + t * k[1] * k[1], t * k[1] * k[2] - s * k[0]},
-            Point3{t * k[2] * k[0] - s * k[1], t * k[2] * k[1] + s * k[0], c + t * k[2] * k[2]}};
-  m.shift = shift;
-  return m;
-}
-
-/// The small "odd" motion given to component `k` of a shape: a rotation by a few hundredths of
-/// a radian about an irrational axis and a shift of a few thousandths. Visually nothing, but it
-/// breaks every symmetry of the construction (mirror planes, equal sample angles) that could
-/// put a vertex exactly on another sheet. The rotation is about `about` (the component's own
-/// centre), so the component stays where the construction put it.
-Motion odd_motion(int k, const Point3& about = {0, 0, 0}) {
-  const double a = 0.0123 + 0.0031 * k;
-  Motion m = rotation({1.0 + 0.31 * k, std::numbers::sqrt2, std::numbers::phi + 0.17 * k}, a);
-  const Point3 turned = m.apply(about);
-  m.shift =
-      plus(minus(about, turned), Point3{0.00137 * (k + 1), -0.00211 * (k + 1), 0.00173 * (k + 1)});
-  return m;
-}
-
-/// Appends `part` moved by `motion`.
-void append(Surface& out, const Surface& part, const Motion& motion) {
-  const auto base = static_cast<std::uint32_t>(out.vertices.size());
-  for (const Point3& p : part.vertices) out.vertices.push_back(motion.apply(p));
-  for (const Triangle& t : part.triangles) {
-    out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-    out.source_face.push_back(static_cast<std::uint32_t>(out.source_face.size()));
-  }
-}
-
-// ---- sweeps -----------------------------------------------------------------------------------
-
-/// A ring of a sweep: `sides` points centre + radius (cos phi u + sin phi v), phi = phase +
-/// 2 pi j / sides. (u, v) is an orthonormal pair; the sweep advances along u x v.
-struct Ring {
-  Point3 centre;
-  Point3 u;
-  Point3 v;
-  double radius = 1.0;
-  double phase = 0.0;
-};
-
-/// Radius factor of the ring point at angle phi of ring `ring` (1 when absent).
-using RadiusScale = std::function<double(std::size_t ring, double phi)>;
-
-/// Ring `index` starts half a step later every other ring (staggered rings: near-equilateral
-/// triangles) plus an irrational jitter below a tenth of a step, so that no two rings of
-/// different parts of a shape share their sample angles exactly.
-double staggered_phase(std::size_t index, int sides) {
-  const double jitter =
-      0.1 * std::fmod(0.6180339887498949 * static_cast<double>(index) + 0.137, 1.0);
-  return 2 * kPi / sides * (0.5 * static_cast<double>(index & 1U) + jitter);
-}
-
-/// A ring around `centre` perpendicular to `tangent`, with u the part of `reference`
-/// perpendicular to the tangent. @pre reference is not parallel to tangent.
-Ring ring_at(const Point3& centre, const Point3& tangent, const Point3& reference, double radius,
-             double phase) {
-  const Point3 t = normalized(tangent);
-  const Point3 u = normalized(minus(reference, times(dot(reference, t), t)));
-  return {centre, u, cross(t, u), radius, phase};
-}
-
-/// The ring of a surface of revolution around the z axis: profile point (rho, z).
-Ring revolution_ring(double rho, double z, double phase) {
-  return {{0, 0, z}, {1, 0, 0}, {0, 1, 0}, rho, phase};
-}
-
-Point3 ring_point(const Ring& ring, int j, int sides, double scale) {
-  const double phi = ring.phase + 2 * kPi * j / sides;
-  const double r = ring.radius * scale;
-  return plus(ring.centre,
-              plus(times(r * std::cos(phi), ring.u), times(r * std::sin(phi), ring.v)));
-}
-
-/// Vertices of the rings, then the bands between consecutive rings: quad (i, j), (i, j + 1),
-/// (i + 1, j + 1), (i + 1, j) as two triangles split along its shorter diagonal. With the sweep
-/// advancing along u x v, their normals point away from the centreline (outward); for a surface of
-/// revolution the same holds when the profile runs counter-clockwise in the (rho, z) half plane.
-Surface sweep_bands(const std::vector<Ring>& rings, int sides, bool closed,
-                    const RadiusScale& scale) {
-  Surface s;
-  s.vertices.reserve(rings.size() * static_cast<std::size_t>(sides) + 2);
-  for (std::size_t i = 0; i < rings.size(); ++i) {
-    for (int j = 0; j < sides; ++j) {
-      const double phi = rings[i].phase + 2 * kPi * j / sides;
-      s.vertices.push_back(ring_point(rings[i], j, sides, scale ? scale(i, phi) : 1.0));
-    }
-  }
-  auto id = [&](std::size_t i, int j) {
-    return static_cast<std::uint32_t>((i % rings.size()) * static_cast<std::size_t>(sides) +
-                                      static_cast<std::size_t>(j % sides));
-  };
-  const std::size_t bands = closed ? rings.size() : rings.size() - 1;
-  for (std::size_t i = 0; i < bands; ++i) {
-    for (int j = 0; j < sides; ++j) {
-      const std::uint32_t a = id(i, j), b = id(i, j + 1), c = id(i + 1, j + 1), d = id(i + 1, j);
-      // The shorter diagonal: staggered rings are offset by half a step, alternately forwards
-      // and backwards, and the long diagonal would fold coarse tubes.
-      if (length(minus(s.vertices[a], s.vertices[c])) <=
-          length(minus(s.vertices[b], s.vertices[d]))) {
-        s.triangles.push_back({a, b, c});
-        s.triangles.push_back({a, c, d});
-      } else {
-        s.triangles.push_back({a, b, d});
-        s.triangles.push_back({b, c, d});
-      }
-    }
-  }
-  return s;
-}
-
-/// A closed sweep (a torus-like tube). 2 * sides * rings triangles.
-Surface closed_sweep(const std::vector<Ring>& rings, int sides, const RadiusScale& scale = {}) {
-  Surface s = sweep_bands(rings, sides, true, scale);
-  s.source_face.resize(s.triangles.size());
-  for (std::size_t t = 0; t < s.triangles.size(); ++t)
-    s.source_face[t] = static_cast<std::uint32_t>(t);
-  return s;
-}
-
-/// A sweep closed by a pole vertex before the first ring and one after the last.
-/// 2 * sides * rings triangles.
-Surface capped_sweep(const std::vector<Ring>& rings, int sides, const Point3& start_pole,
-                     const Point3& end_pole) {
-  Surface s = sweep_bands(rings, sides, false, {});
-  const auto first = static_cast<std::uint32_t>(s.vertices.size());
-  s.vertices.push_back(start_pole);
-  s.vertices.push_back(end_pole);
-  const auto last_ring =
-      static_cast<std::uint32_t>((rings.size() - 1) * static_cast<std::size_t>(sides));
-  for (int j = 0; j < sides; ++j) {
-    const auto j0 = static_cast<std::uint32_t>(j), j1 = static_cast<std::uint32_t>((j + 1) % sides);
-    s.triangles.push_back({first, j1, j0});
-    s.triangles.push_back({last_ring + j0, last_ring + j1, first + 1});
-  }
-  s.source_face.resize(s.triangles.size());
-  for (std::size_t t = 0; t < s.triangles.size(); ++t)
-    s.source_face[t] = static_cast<std::uint32_t>(t);
-  return s;
-}
-
-Point3 ring_tangent(const Ring& r) { return cross(r.u, r.v); }
-
-/// A tube along the body rings with rounded caps: kCapRings rings on a quarter circle at each
-/// end, then the pole. The phases continue the staggering of the body.
-Surface round_capped_tube(const std::vector<Ring>& body, int sides) {
-  std::vector<Ring> rings;
-  const Ring& head = body.front();
-  const Ring& tail = body.back();
-  const Point3 t0 = ring_tangent(head), t1 = ring_tangent(tail);
-  std::size_t index = 0;
-  for (int k = kCapRings; k >= 1; --k) {
-    const double psi = k * (kPi / 2) / (kCapRings + 1);
-    Ring r = head;
-    r.centre = minus(head.centre, times(head.radius * std::sin(psi), t0));
-    r.radius = head.radius * std::cos(psi);
-    r.phase = head.phase + staggered_phase(index++, sides);
-    rings.push_back(r);
-  }
-  for (Ring r : body) {
-    r.phase += staggered_phase(index++, sides);
-    rings.push_back(r);
-  }
-  for (int k = 1; k <= kCapRings; ++k) {
-    const double psi = k * (kPi / 2) / (kCapRings + 1);
-    Ring r = tail;
-    r.centre = plus(tail.centre, times(tail.radius * std::sin(psi), t1));
-    r.radius = tail.radius * std::cos(psi);
-    r.phase = tail.phase + staggered_phase(index++, sides);
-    rings.push_back(r);
-  }
-  return capped_sweep(rings, sides, minus(head.centre, times(head.radius, t0)),
-                      plus(tail.centre, times(tail.radius, t1)));
-}
-
-/// A straight capped cylinder from a to b (radius r, `body_rings` >= 2 rings along it).
-Surface cylinder(const Point3& a, const Point3& b, double radius, int sides, int body_rings,
-                 const Point3& reference) {
-  std::vector<Ring> body;
-  const Point3 axis = minus(b, a);
-  for (int i = 0; i < body_rings; ++i) {
-    const double f = static_cast<double>(i) / (body_rings - 1);
-    body.push_back(ring_at(plus(a, times(f, axis)), axis, reference, radius, 0.0));
-  }
-  return round_capped_tube(body, sides);
-}
 
 // ---- seeded randomness (splitmix64: the same numbers on every platform) ----------------------
 
@@ -272,30 +51,6 @@ Surface first_generic(std::uint64_t seed, const std::function<Surface(Random&)>&
   IMM_ASSERT(false,
              "no generic random surface after 100 draws (seed " + std::to_string(seed) + ")");
   return {};
-}
-
-// ---- a unit sphere as a surface of revolution -------------------------------------------------
-
-Surface unit_sphere(int n) {
-  std::vector<Ring> rings;
-  const int sides = 2 * n;
-  for (int k = 1; k < n; ++k) {
-    const double theta = kPi * k / n;
-    rings.push_back(revolution_ring(std::sin(theta), -std::cos(theta),
-                                    staggered_phase(static_cast<std::size_t>(k), sides)));
-  }
-  return capped_sweep(rings, sides, {0, 0, -1}, {0, 0, 1});
-}
-
-/// A closed profile curve (rho(s), z(s)), s in [0, 1), counter-clockwise, revolved about z.
-Surface revolve_closed(const std::function<std::array<double, 2>(double)>& profile, int samples,
-                       int sides) {
-  std::vector<Ring> rings;
-  for (int i = 0; i < samples; ++i) {
-    const auto [rho, z] = profile((i + 0.3183098861837907) / samples);
-    rings.push_back(revolution_ring(rho, z, staggered_phase(static_cast<std::size_t>(i), sides)));
-  }
-  return closed_sweep(rings, sides);
 }
 
 // ---- the head and the mouth ----------------------------------------------------------------
@@ -339,14 +94,8 @@ Surface head_sweep(int n, double tip_x) {
   }
   const Ring tip = rings.back();
   const Point3 t1 = ring_tangent(tip);
-  for (int k = 1; k <= kCapRings; ++k) {
-    const double psi = k * (kPi / 2) / (kCapRings + 1);
-    Ring r = tip;
-    r.centre = plus(tip.centre, times(kLip * std::sin(psi), t1));
-    r.radius = kLip * std::cos(psi);
-    r.phase = staggered_phase(index++, sides);
-    rings.push_back(r);
-  }
+  for (int k = 1; k <= kCapRings; ++k)
+    rings.push_back(cap_ring(tip, t1, k, staggered_phase(index++, sides)));
   Surface s = capped_sweep(rings, sides, {-1, 0, 0}, plus(tip.centre, times(kLip, t1)));
   Surface out;
   append(out, s, odd_motion(0));
@@ -477,45 +226,18 @@ std::vector<Capsule> tree_capsules(int branches, std::uint64_t seed) {
   return out;
 }
 
-// ---- registry helpers --------------------------------------------------------------------------
-
-ExpectedSurfaceCounts counts(long regions, long cells, long patches, long arcs, int min_w,
-                             int max_w, long immersions) {
-  ExpectedSurfaceCounts e;
-  e.regions = regions;
-  e.cells = cells;
-  e.patches = patches;
-  e.arcs = arcs;
-  e.min_winding = min_w;
-  e.max_winding = max_w;
-  e.immersions = immersions;
-  e.at_least_one = immersions > 0;
-  return e;
-}
-
 }  // namespace
 
 // ---- embedded controls -------------------------------------------------------------------------
 
 Surface sphere(int n) {
   IMM_ASSERT(n >= 3, "sphere needs n >= 3");
-  Surface out;
-  append(out, unit_sphere(n), odd_motion(0));
-  return out;
+  return moved(unit_sphere(n), odd_motion(0));
 }
 
 Surface torus(int n) {
   IMM_ASSERT(n >= 6, "torus needs n >= 6");
-  Surface out;
-  append(out,
-         revolve_closed(
-             [](double s) {
-               const double a = 2 * kPi * s;
-               return std::array<double, 2>{1 + 0.4 * std::cos(a), 0.4 * std::sin(a)};
-             },
-             n / 2, n),
-         odd_motion(0));
-  return out;
+  return moved(ring_torus(1, 0.4, n / 2, n), odd_motion(0));
 }
 
 Surface two_spheres(int n) {
@@ -529,8 +251,6 @@ Surface two_spheres(int n) {
   append(out, small, m);  // turned about its own centre, then moved there
   return out;
 }
-
-namespace {
 
 /// Two overlapping tori as one input (the input class of the CSG reference measurement quoted
 /// in the Table 2 issue: "two overlapping tori, 4,096 triangles"). Both have major radius 1,
@@ -562,21 +282,15 @@ namespace {
 Surface two_tori(int n) {
   IMM_ASSERT(n >= 3, "two_tori needs n >= 3");
   constexpr double kLift = 0.15;
-  const Surface ring_torus = revolve_closed(
-      [](double s) {
-        const double a = 2 * kPi * s;
-        return std::array<double, 2>{1 + 0.4 * std::cos(a), 0.4 * std::sin(a)};
-      },
-      n, n);
+  const Surface tube = ring_torus(1, 0.4, n, n);
   Surface out;
-  append(out, ring_torus, odd_motion(0));
+  append(out, tube, odd_motion(0));
   Motion m = odd_motion(1);
   m.shift = plus(m.shift, Point3{1.0, 0.07, kLift});
-  append(out, ring_torus, m);  // turned about its own centre, then moved there
+  append(out, tube, m);  // turned about its own centre, then moved there
   return out;
 }
 
-}  // namespace
 
 // ---- the paper's figures -------------------------------------------------------------------
 
@@ -636,15 +350,7 @@ Surface double_loop_torus(int n) {
 
 Surface sacht_torus(int n, bool large) {
   IMM_ASSERT(n >= 12, "sacht_torus needs n >= 12");
-  Surface out;
-  append(out,
-         revolve_closed(
-             [](double s) {
-               const double a = 2 * kPi * s;
-               return std::array<double, 2>{1 + 0.35 * std::cos(a), 0.35 * std::sin(a)};
-             },
-             n / 2, n),
-         odd_motion(0));
+  Surface out = moved(ring_torus(1, 0.35, n / 2, n), odd_motion(0));
   const int sides = std::max(6, n / 3);
   const int through = large ? 8 : 4;
   for (int k = 0; k < through; ++k) {
@@ -678,12 +384,7 @@ Surface sacht_torus(int n, bool large) {
 Surface quintuple_torus(int n) {
   IMM_ASSERT(n >= 8, "quintuple_torus needs n >= 8");
   Surface out;
-  const Surface ring_torus = revolve_closed(
-      [](double s) {
-        const double a = 2 * kPi * s;
-        return std::array<double, 2>{1 + 0.3 * std::cos(a), 0.3 * std::sin(a)};
-      },
-      n / 2, n);
+  const Surface tube = ring_torus(1, 0.3, n / 2, n);
   std::array<double, 5> angles{};
   for (int k = 0; k < 5; ++k) {
     angles[static_cast<std::size_t>(k)] = 2 * kPi * k / 5 + 0.05 + 0.013 * k;
@@ -692,9 +393,7 @@ Surface quintuple_torus(int n) {
                         {2 * std::cos(a), 2 * std::sin(a), 0.01 * k - 0.02});
     // a slight tilt of each torus, about a horizontal axis
     const Motion tilt = rotation({std::cos(1.9 * k), std::sin(1.9 * k), 0}, 0.02 + 0.013 * k);
-    Surface moved;
-    append(moved, ring_torus, tilt);
-    append(out, moved, m);
+    append(out, moved(tube, tilt), m);
   }
   const int sides = std::max(6, n / 2);
   const int body = std::max(3, 2 * n / 3);
@@ -748,30 +447,20 @@ Surface head(int n) {
 
 Surface limacon_torus(int n) {
   IMM_ASSERT(n >= 12, "limacon_torus needs n >= 12");
-  Surface out;
-  append(out,
-         revolve_closed(
-             [](double s) {
-               const double theta = 2 * kPi * s, r = 1 + 2 * std::cos(theta);
-               return std::array<double, 2>{1.2 + r * std::cos(theta), r * std::sin(theta)};
-             },
-             n, n),
-         odd_motion(0));
-  return out;
+  const auto profile = [](double s) {
+    const double theta = 2 * kPi * s, r = 1 + 2 * std::cos(theta);
+    return std::array<double, 2>{1.2 + r * std::cos(theta), r * std::sin(theta)};
+  };
+  return moved(revolve_closed(profile, n, n), odd_motion(0));
 }
 
 Surface figure_eight_torus(int n) {
   IMM_ASSERT(n >= 12, "figure_eight_torus needs n >= 12");
-  Surface out;
-  append(out,
-         revolve_closed(
-             [](double s) {
-               const double t = 2 * kPi * s;
-               return std::array<double, 2>{1.5 + std::cos(t), std::sin(t) * std::cos(t)};
-             },
-             n, n),
-         odd_motion(0));
-  return out;
+  const auto profile = [](double s) {
+    const double t = 2 * kPi * s;
+    return std::array<double, 2>{1.5 + std::cos(t), std::sin(t) * std::cos(t)};
+  };
+  return moved(revolve_closed(profile, n, n), odd_motion(0));
 }
 
 Surface poke_through(int n) {
@@ -936,12 +625,7 @@ Surface spheres_pile(int count, std::uint64_t seed, int n) {
 
 Surface tori_pile(int count, std::uint64_t seed, int n) {
   IMM_ASSERT(count >= 1 && n >= 6, "tori_pile needs count >= 1, n >= 6");
-  const Surface ring = revolve_closed(
-      [](double s) {
-        const double a = 2 * kPi * s;
-        return std::array<double, 2>{0.5 + 0.18 * std::cos(a), 0.18 * std::sin(a)};
-      },
-      n / 2, n);
+  const Surface ring = ring_torus(0.5, 0.18, n / 2, n);
   return first_generic(seed, [&](Random& random) {
     Surface out;
     for (int k = 0; k < count; ++k) append_randomly(out, ring, random, {0, 0, 0}, {0.6, 0.6, 0.6});
@@ -1038,484 +722,6 @@ Surface perturbed_torus(int n, std::uint64_t seed) {
            odd_motion(0));
     return out;
   });
-}
-
-// ---- exact genericity check -----------------------------------------------------------------
-
-namespace {
-
-using IK = CGAL::Exact_predicates_inexact_constructions_kernel;
-using IPoint = IK::Point_3;
-
-class GenericityCheck {
- public:
-  GenericityCheck(const Surface& s, bool keep) : s_(s), keep_(keep) {
-    points_.reserve(s.vertices.size());
-    for (const Point3& p : s.vertices) points_.emplace_back(p[0], p[1], p[2]);
-  }
-
-  SurfaceGenericity run() {
-    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
-    std::vector<Box> boxes;
-    boxes.reserve(s_.triangle_count());
-    for (std::uint32_t t = 0; t < s_.triangle_count(); ++t) {
-      double lo[3], hi[3];
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = hi[d] = s_.vertices[s_.triangles[t][0]][d];
-        for (int k = 1; k < 3; ++k) {
-          lo[d] = std::min(lo[d], s_.vertices[s_.triangles[t][k]][d]);
-          hi[d] = std::max(hi[d], s_.vertices[s_.triangles[t][k]][d]);
-        }
-      }
-      boxes.emplace_back(lo, hi, t);
-    }
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates;
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
-      candidates.emplace_back(std::min(a.info(), b.info()), std::max(a.info(), b.info()));
-    });
-    std::sort(candidates.begin(), candidates.end());
-    for (const auto& [a, b] : candidates) {
-      classify(a, b);
-      if (!result_.generic) break;
-    }
-    return std::move(result_);
-  }
-
- private:
-  const IPoint& p(std::uint32_t t, int k) const { return points_[s_.triangles[t][k]]; }
-  IK::Triangle_3 triangle(std::uint32_t t) const { return {p(t, 0), p(t, 1), p(t, 2)}; }
-
-  void fail(std::uint32_t a, std::uint32_t b, const std::string& what) {
-    result_.generic = false;
-    result_.problem = "triangles " + std::to_string(a) + " and " + std::to_string(b) + ": " + what;
-  }
-
-  void classify(std::uint32_t a, std::uint32_t b) {
-    const Triangle& ta = s_.triangles[a];
-    const Triangle& tb = s_.triangles[b];
-    std::array<int, 3> match{-1, -1, -1};  // corner of b equal to corner k of a
-    int shared = 0;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        if (ta[i] == tb[j]) {
-          match[i] = j;
-          ++shared;
-        }
-    if (shared == 3) return fail(a, b, "the same three vertices");
-    if (shared == 2) {
-      int oa = 0;
-      while (match[oa] >= 0) ++oa;
-      int ob = 0;
-      while (tb[ob] == ta[0] || tb[ob] == ta[1] || tb[ob] == ta[2]) ++ob;
-      const IPoint &u = p(a, (oa + 1) % 3), &v = p(a, (oa + 2) % 3);
-      if (CGAL::orientation(u, v, p(a, oa), p(b, ob)) == CGAL::COPLANAR &&
-          CGAL::coplanar_orientation(u, v, p(a, oa), p(b, ob)) == CGAL::POSITIVE) {
-        fail(a, b, "share an edge and fold onto each other");
-      }
-      return;
-    }
-    if (shared == 1) {
-      int ia = 0;
-      while (match[ia] < 0) ++ia;
-      const int ib = match[ia];
-      const IK::Segment_3 far_a(p(a, (ia + 1) % 3), p(a, (ia + 2) % 3));
-      const IK::Segment_3 far_b(p(b, (ib + 1) % 3), p(b, (ib + 2) % 3));
-      if (CGAL::do_intersect(far_a, triangle(b)) || CGAL::do_intersect(far_b, triangle(a)))
-        fail(a, b, "share one vertex and meet beyond it");
-      return;
-    }
-    std::array<CGAL::Orientation, 3> oa{}, ob{};
-    bool zero = false;
-    for (int k = 0; k < 3; ++k) {
-      oa[k] = CGAL::orientation(p(b, 0), p(b, 1), p(b, 2), p(a, k));
-      ob[k] = CGAL::orientation(p(a, 0), p(a, 1), p(a, 2), p(b, k));
-      zero = zero || oa[k] == CGAL::COPLANAR || ob[k] == CGAL::COPLANAR;
-    }
-    auto one_side = [](const std::array<CGAL::Orientation, 3>& o) {
-      return o[0] == o[1] && o[1] == o[2] && o[0] != CGAL::COPLANAR;
-    };
-    if (one_side(oa) || one_side(ob)) return;
-    if (!CGAL::do_intersect(triangle(a), triangle(b))) return;
-    if (zero)
-      return fail(a, b, "a vertex lies exactly in the other triangle's plane where they meet");
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        const IPoint &a0 = p(a, i), &a1 = p(a, (i + 1) % 3), &b0 = p(b, j), &b1 = p(b, (j + 1) % 3);
-        if (CGAL::orientation(a0, a1, b0, b1) == CGAL::COPLANAR &&
-            CGAL::do_intersect(IK::Segment_3(a0, a1), IK::Segment_3(b0, b1))) {
-          return fail(a, b, "an edge of one meets an edge of the other");
-        }
-      }
-    ++result_.intersecting_pairs;
-    if (keep_) result_.pairs.emplace_back(a, b);
-  }
-
-  const Surface& s_;
-  bool keep_;
-  std::vector<IPoint> points_;
-  SurfaceGenericity result_;
-};
-
-}  // namespace
-
-SurfaceGenericity check_generic_surface(const Surface& surface, bool keep_pairs) {
-  return GenericityCheck(surface, keep_pairs).run();
-}
-
-// ---- registry
-// -------------------------------------------------------------------------------------
-
-namespace {
-
-using Maker = std::function<Surface(const std::vector<long>&)>;
-using Counter = std::function<ExpectedSurfaceCounts(const std::vector<long>&)>;
-
-struct Entry {
-  SurfaceGeneratorInfo info;
-  Maker make;
-  Counter expected;
-};
-
-constexpr long kMaxSeed = 9223372036854775807L;
-
-int as_int(long v) { return static_cast<int>(v); }
-
-ExpectedSurfaceCounts embedded() { return counts(2, 1, 1, 0, 0, 1, 1); }
-/// One closed intersection loop on a single immersed ball (tube-overlap, helix, head).
-ExpectedSurfaceCounts one_overlap() { return counts(3, 2, 3, 1, 0, 2, 1); }
-
-const std::vector<Entry>& entries() {
-  static const std::vector<Entry> kEntries = [] {
-    std::vector<Entry> e;
-    e.push_back({{"sphere",
-                  "UV sphere (embedded control)",
-                  {{"n", "latitude bands", 12, 3, 2000}},
-                  1,
-                  "1 cell, 1 immersion"},
-                 [](const std::vector<long>& p) { return sphere(as_int(p[0])); },
-                 [](const std::vector<long>&) { return embedded(); }});
-    e.push_back({{"torus",
-                  "torus (embedded control)",
-                  {{"n", "segments around the axis (n/2 around the tube)", 24, 6, 4000}},
-                  1,
-                  "1 cell, 1 immersion"},
-                 [](const std::vector<long>& p) { return torus(as_int(p[0])); },
-                 [](const std::vector<long>&) { return embedded(); }});
-    e.push_back({{"two-spheres",
-                  "two overlapping spheres as one input (windings 1, 1, 2)",
-                  {{"n", "latitude bands per sphere", 12, 3, 2000}},
-                  1,
-                  "3 cells, 1 immersion"},
-                 [](const std::vector<long>& p) { return two_spheres(as_int(p[0])); },
-                 [](const std::vector<long>&) { return counts(4, 3, 4, 1, 0, 2, 1); }});
-    e.push_back({{"two-tori",
-                  "two overlapping tori as one input, tubes crossing twice (windings 1, 1, 2, 2)",
-                  {{"n", "segments around the axis and the tube (4n^2 triangles)", 32, 3, 1000}},
-                  1,
-                  "4 cells, 1 immersion"},
-                 [](const std::vector<long>& p) { return two_tori(as_int(p[0])); },
-                 [](const std::vector<long>&) { return counts(5, 4, 6, 2, 0, 2, 1); }});
-    e.push_back({{"tube-overlap",
-                  "a capped tube along a looping path, passing through itself once",
-                  {{"sides", "vertices per ring", 12, 6, 2000}},
-                  1,
-                  "2 cells (windings 1, 2), 1 immersion"},
-                 [](const std::vector<long>& p) { return tube_overlap(as_int(p[0])); },
-                 [](const std::vector<long>&) { return one_overlap(); }});
-    e.push_back({{"helix",
-                  "Fig. 1: capped tube along a helix, consecutive loops overlapping",
-                  {{"loops", "turns (100, 20 = 200k triangles)", 4, 1, 100000},
-                   {"sides", "vertices per ring (even)", 20, 6, 1000}},
-                  1,
-                  "2 cells (windings 1, 2), 1 immersion"},
-                 [](const std::vector<long>& p) { return helix(as_int(p[0]), as_int(p[1])); },
-                 [](const std::vector<long>&) { return one_overlap(); }});
-    e.push_back({{"double-loop-torus",
-                  "Fig. 13: a torus whose core winds twice around the axis",
-                  {{"n", "rings per turn (n/2 sides)", 32, 8, 4000}},
-                  1,
-                  "self-connecting cell; 1 immersion after a helper-box cut"},
-                 [](const std::vector<long>& p) { return double_loop_torus(as_int(p[0])); },
-                 [](const std::vector<long>&) {
-                   ExpectedSurfaceCounts c = counts(3, 2, 2, 1, 0, 2, 1);  // after the cut
-                   c.self_connecting = true;
-                   return c;
-                 }});
-    e.push_back({{"sacht-torus",
-                  "Fig. 24: torus with vertical columns through it (large = 1: more)",
-                  {{"n", "torus segments around the axis", 36, 12, 4000},
-                   {"large", "0 small, 1 large", 0, 0, 1}},
-                  1,
-                  "max winding 2, 1 immersion"},
-                 [](const std::vector<long>& p) { return sacht_torus(as_int(p[0]), p[1] != 0); },
-                 [](const std::vector<long>& p) {
-                   return p[1] != 0 ? counts(34, 33, 53, 20, 0, 2, 1)
-                                    : counts(14, 13, 21, 8, 0, 2, 1);
-                 }});
-    e.push_back({{"quintuple-torus",
-                  "Fig. 22: five overlapping tori and seven colliding cylinders",
-                  {{"n", "torus segments around the axis", 24, 8, 2000}},
-                  -1,
-                  "max winding 7, at least 1 immersion (the components)"},
-                 [](const std::vector<long>& p) { return quintuple_torus(as_int(p[0])); },
-                 [](const std::vector<long>&) {
-                   ExpectedSurfaceCounts c;
-                   c.max_winding = 7;
-                   c.at_least_one = true;
-                   return c;
-                 }});
-    e.push_back({{"tree",
-                  "Fig. 3: procedural tree, each branch buried in its parent (120 triangles each)",
-                  {{"branches", "branches (2500 = 300k triangles)", 40, 1, 200000},
-                   {"seed", "random seed", 1, 0, kMaxSeed}},
-                  1,
-                  "2B - 1 cells, 1 immersion"},
-                 [](const std::vector<long>& p) {
-                   return tree(as_int(p[0]), static_cast<std::uint64_t>(p[1]));
-                 },
-                 [](const std::vector<long>& p) {
-                   const long b = p[0];
-                   return counts(2 * b, 2 * b - 1, 3 * b - 2, b - 1, 0, b > 1 ? 2 : 1, 1);
-                 }});
-    e.push_back({{"head",
-                  "Fig. 2: head-like sphere whose lip curls down and pierces the chin",
-                  {{"n", "vertices per ring", 24, 16, 2000}},
-                  1,
-                  "2 cells (windings 1, 2), 1 immersion"},
-                 [](const std::vector<long>& p) { return head(as_int(p[0])); },
-                 [](const std::vector<long>&) { return one_overlap(); }});
-    e.push_back({{"limacon-torus",
-                  "Fig. 8: the limacon with inner loop revolved (windings 0..2)",
-                  {{"n", "profile samples and ring sides", 48, 12, 2000}},
-                  0,
-                  "not immersible (exit 3)"},
-                 [](const std::vector<long>& p) { return limacon_torus(as_int(p[0])); },
-                 [](const std::vector<long>&) { return counts(3, 2, 2, 1, 0, 2, 0); }});
-    e.push_back({{"figure-eight-torus",
-                  "Fig. 8: a figure-eight revolved (windings +1 and -1)",
-                  {{"n", "profile samples and ring sides", 32, 12, 2000}},
-                  0,
-                  "inversion (exit 3)"},
-                 [](const std::vector<long>& p) { return figure_eight_torus(as_int(p[0])); },
-                 [](const std::vector<long>&) { return counts(3, 2, 2, 1, -1, 1, 0); }});
-    e.push_back({{"poke-through",
-                  "Fig. 8: a sphere dented from below until the dent pokes out on top",
-                  {{"n", "ring sides", 24, 8, 2000}},
-                  0,
-                  "inversion (exit 3)"},
-                 [](const std::vector<long>& p) { return poke_through(as_int(p[0])); },
-                 [](const std::vector<long>&) { return counts(3, 2, 3, 1, -1, 1, 0); }});
-    e.push_back({{"comb",
-                  "comb whose teeth are 1/64 apart (nearly touching, no intersection)",
-                  {{"teeth", "teeth", 12, 1, 100000}},
-                  1,
-                  "1 cell, 1 immersion"},
-                 [](const std::vector<long>& p) { return comb(as_int(p[0])); },
-                 [](const std::vector<long>&) { return embedded(); }});
-    e.push_back({{"mouth",
-                  "the head with its lip 0.004 short of the chin (no intersection)",
-                  {{"n", "vertices per ring", 24, 16, 2000}},
-                  1,
-                  "1 cell, 1 immersion"},
-                 [](const std::vector<long>& p) { return mouth(as_int(p[0])); },
-                 [](const std::vector<long>&) { return embedded(); }});
-    e.push_back({{"random-blobs",
-                  "K random star-shaped ellipsoids, overlapping (seeded)",
-                  {{"k", "blobs", 8, 1, 10000},
-                   {"seed", "random seed", 1, 0, kMaxSeed},
-                   {"n", "latitude bands per blob", 10, 4, 200}},
-                  -1,
-                  "at least 1 immersion"},
-                 [](const std::vector<long>& p) {
-                   return random_blobs(as_int(p[0]), static_cast<std::uint64_t>(p[1]),
-                                       as_int(p[2]));
-                 },
-                 [](const std::vector<long>&) {
-                   ExpectedSurfaceCounts c;
-                   c.at_least_one = true;
-                   return c;
-                 }});
-    e.push_back({{"perturbed-torus",
-                  "randomly bumped torus around a self-crossing core (seeded)",
-                  {{"n", "size (4n rings of n/2 sides)", 16, 12, 2000},
-                   {"seed", "random seed", 1, 0, kMaxSeed}},
-                  -1,
-                  "at least 1 immersion"},
-                 [](const std::vector<long>& p) {
-                   return perturbed_torus(as_int(p[0]), static_cast<std::uint64_t>(p[1]));
-                 },
-                 [](const std::vector<long>&) {
-                   ExpectedSurfaceCounts c;
-                   c.at_least_one = true;
-                   return c;
-                 }});
-    const auto pile = [&](std::string name, std::string description, std::string part,
-                          long k, long n, long n_min, Surface (*make)(int, std::uint64_t, int)) {
-      e.push_back({{std::move(name),
-                    std::move(description),
-                    {{"k", std::move(part), k, 1, 10000},
-                     {"seed", "random seed", 1, 0, kMaxSeed},
-                     {"n", "resolution of each part", n, n_min, 200}},
-                    -1,
-                    "at least 1 immersion (the parts' solids)"},
-                   [make](const std::vector<long>& p) {
-                     return make(as_int(p[0]), static_cast<std::uint64_t>(p[1]), as_int(p[2]));
-                   },
-                   [](const std::vector<long>&) {
-                     ExpectedSurfaceCounts c;
-                     c.at_least_one = true;
-                     return c;
-                   }});
-    };
-    pile("spheres-pile", "K spheres of radius 0.5, centres in a cube of side 0.6 (seeded)",
-         "spheres", 12, 8, 3, spheres_pile);
-    pile("tori-pile", "K tori (radii 0.5, 0.18), random axes, centres in a cube of side 0.6",
-         "tori", 6, 16, 6, tori_pile);
-    e.push_back({{"helix-spheres",
-                  "helix (Fig. 13 tube, L loops) inside a pile of K spheres of radius 0.5",
-                  {{"k", "spheres", 8, 0, 10000},
-                   {"seed", "random seed", 1, 0, kMaxSeed},
-                   {"loops", "helix loops", 2, 1, 100}},
-                  -1,
-                  "at least 1 immersion (the helix tube's and the balls' solids)"},
-                 [](const std::vector<long>& p) {
-                   return helix_in_spheres(as_int(p[0]), static_cast<std::uint64_t>(p[1]),
-                                           as_int(p[2]));
-                 },
-                 [](const std::vector<long>&) {
-                   ExpectedSurfaceCounts c;
-                   c.at_least_one = true;
-                   return c;
-                 }});
-    return e;
-  }();
-  return kEntries;
-}
-
-/// Parses `arguments` against the entry's parameters (dim2/generators.cpp rules).
-std::string parse(const Entry& entry, std::string_view name,
-                  const std::vector<std::string>& arguments, std::vector<long>& values) {
-  const std::vector<SurfaceGeneratorParameter>& params = entry.info.parameters;
-  values.clear();
-  for (const SurfaceGeneratorParameter& p : params) values.push_back(p.default_value);
-  std::vector<bool> set(params.size(), false);
-  std::size_t positional = 0;
-  for (const std::string& argument : arguments) {
-    std::string key;
-    std::string text = argument;
-    if (const auto eq = argument.find('='); eq != std::string::npos) {
-      key = argument.substr(0, eq);
-      text = argument.substr(eq + 1);
-    }
-    std::size_t index = params.size();
-    if (key.empty()) {
-      while (positional < params.size() && set[positional]) ++positional;
-      index = positional;
-    } else {
-      for (std::size_t i = 0; i < params.size(); ++i) {
-        if (params[i].name == key) index = i;
-      }
-      if (index == params.size())
-        return "generator '" + std::string(name) + "' has no parameter '" + key + "'";
-    }
-    if (index >= params.size()) {
-      return "generator '" + std::string(name) + "' takes " + std::to_string(params.size()) +
-             " parameter" + (params.size() == 1 ? "" : "s") + ", got '" + argument + "'";
-    }
-    long value = 0;
-    const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (parsed.ec != std::errc() || parsed.ptr != text.data() + text.size()) {
-      return "parameter '" + params[index].name + "' of '" + std::string(name) +
-             "' must be an integer, got '" + text + "'";
-    }
-    if (value < params[index].min_value || value > params[index].max_value) {
-      return "parameter '" + params[index].name + "' of '" + std::string(name) + "' must lie in [" +
-             std::to_string(params[index].min_value) + ", " +
-             std::to_string(params[index].max_value) + "], got " + std::to_string(value);
-    }
-    if (name == "helix" && params[index].name == "sides" && value % 2 != 0)
-      return "parameter 'sides' of 'helix' must be even";
-    values[index] = value;
-    set[index] = true;
-  }
-  return {};
-}
-
-const Entry* find_entry(std::string_view name) {
-  for (const Entry& e : entries()) {
-    if (e.info.name == name) return &e;
-  }
-  return nullptr;
-}
-
-std::string unknown(std::string_view name) {
-  return "unknown generator '" + std::string(name) + "' (see 'immerse generate --list')";
-}
-
-}  // namespace
-
-const std::vector<SurfaceGeneratorInfo>& surface_generator_registry() {
-  static const std::vector<SurfaceGeneratorInfo> kInfos = [] {
-    std::vector<SurfaceGeneratorInfo> infos;
-    for (const Entry& e : entries()) infos.push_back(e.info);
-    return infos;
-  }();
-  return kInfos;
-}
-
-const SurfaceGeneratorInfo* find_surface_generator(std::string_view name) {
-  for (const SurfaceGeneratorInfo& info : surface_generator_registry()) {
-    if (info.name == name) return &info;
-  }
-  return nullptr;
-}
-
-std::vector<SurfaceGeneratorSummary> surface_generators() {
-  std::vector<SurfaceGeneratorSummary> out;
-  for (const SurfaceGeneratorInfo& info : surface_generator_registry()) {
-    SurfaceGeneratorSummary g;
-    g.name = info.name;
-    for (const SurfaceGeneratorParameter& p : info.parameters) {
-      if (!g.params.empty()) g.params += ' ';
-      std::string upper = p.name;
-      for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-      g.params += "[" + upper + "=" + std::to_string(p.default_value) + "]";
-    }
-    g.description = info.description + " -- " + info.expected_note;
-    out.push_back(std::move(g));
-  }
-  return out;
-}
-
-SurfaceGenerateResult generate_surface(std::string_view name,
-                                       const std::vector<std::string>& arguments) {
-  SurfaceGenerateResult result;
-  const Entry* entry = find_entry(name);
-  if (entry == nullptr) {
-    result.error = unknown(name);
-    return result;
-  }
-  std::vector<long> values;
-  result.error = parse(*entry, name, arguments, values);
-  if (result.error.empty()) result.surface = entry->make(values);
-  return result;
-}
-
-ExpectedSurfaceCounts expected_surface_counts(std::string_view name,
-                                              const std::vector<std::string>& arguments) {
-  const Entry* entry = find_entry(name);
-  ExpectedSurfaceCounts counts;
-  if (entry == nullptr) {
-    counts.error = unknown(name);
-    return counts;
-  }
-  std::vector<long> values;
-  const std::string error = parse(*entry, name, arguments, values);
-  if (!error.empty()) {
-    counts.error = error;
-    return counts;
-  }
-  return entry->expected(values);
 }
 
 }  // namespace imm::dim3

@@ -1,7 +1,7 @@
 // Procedural 3D inputs (`immerse generate` for surfaces): the paper's 3D shapes, embedded
 // controls, shapes with known answers and seeded random families (issue 3, item 5).
 //
-// CGAL-free header (the genericity check at the end uses CGAL inside generators3.cpp only).
+// CGAL-free header. The registry of these shapes by name is dim3/generator_registry.cpp.
 // Every output is a closed, manifold, consistently and outwardly oriented triangle mesh without
 // degenerate triangles (dim3/surface.h: the normal (v1 - v0) x (v2 - v0) points out), possibly
 // of several components (paper §6.2: a union of closed components is one input). Coordinates
@@ -13,11 +13,8 @@
 // predicates); seeded random shapes are checked exactly on every call and re-drawn from the
 // same stream until generic.
 //
-// Building blocks. Most shapes are SWEEPS: rings of `sides` vertices around a centreline,
-// joined ring to ring by quads split into two triangles, either closed into a torus or capped at
-// both ends (three rings on a quarter circle, then a pole vertex: a rounded cap); surfaces of
-// revolution are sweeps whose rings are the parallels of a profile curve. A capped or
-// closed sweep with `rings` rings (cap rings included) has exactly 2 * sides * rings triangles.
+// Building blocks: the sweeps of dim3/sweeps.h (rings around a centreline, closed into a
+// torus or capped; a capped or closed sweep with `rings` rings has 2 * sides * rings triangles).
 // A tube of radius r around a centreline with curvature at most k bounds an immersed solid
 // (a ball when capped, a solid torus when closed) whenever r * k < 1: the map
 // (s, disk) -> centreline(s) + disk is then locally injective. This is how the shapes below
@@ -27,9 +24,9 @@
 // the regions with non-zero winding number, `arcs` geometric arcs (intersection curves between
 // triple points, or closed loops), each once: the paper's Table 1 counts each arc once per
 // sheet (twice) and its "cells" column includes the outside region. Where the counts follow
-// from the construction they are stated per generator below and returned by
-// `expected_surface_counts`; the exact cell complex (dim3/complex3.h) and the search verify
-// them.
+// from the construction they are stated per generator below; the tests hold them
+// (tests/support/expected_surface_counts.h) and check them against the exact cell complex
+// (dim3/complex3.h) and the search.
 #pragma once
 
 #include <cstdint>
@@ -38,37 +35,13 @@
 #include <utility>
 #include <vector>
 
+#include "core/generator_registry.h"
 #include "dim3/surface.h"
+#include "dim3/surface_genericity.h"
 
 namespace imm::dim3 {
 
-// ---- the registry (`immerse generate --list`) ------------------------------------------------
-
-/// One integer parameter of a surface generator.
-struct SurfaceGeneratorParameter {
-  std::string name;
-  std::string description;
-  long default_value = 0;
-  long min_value = 0;
-  long max_value = 0;
-};
-
-struct SurfaceGeneratorInfo {
-  std::string name;         ///< "helix", "tree", ...
-  std::string description;  ///< one line
-  std::vector<SurfaceGeneratorParameter> parameters;
-  /// Known number of (pairwise non-isomorphic, simple) immersions for the default parameters:
-  /// 0 = none (exit 3), -1 = not stated (random inputs).
-  int expected_immersions = -1;
-  /// A short note on the known answer ("1 immersion", "inversion (exit 3)", ...).
-  std::string expected_note;
-};
-
-/// Every surface generator, in the order `--list` prints them.
-const std::vector<SurfaceGeneratorInfo>& surface_generator_registry();
-
-/// @return the surface generator with this name, or nullptr.
-const SurfaceGeneratorInfo* find_surface_generator(std::string_view name);
+// ---- the registry (`immerse generate --list`; core/generator_registry.h) -----------------------
 
 struct SurfaceGenerateResult {
   Surface surface;
@@ -82,35 +55,9 @@ struct SurfaceGenerateResult {
 SurfaceGenerateResult generate_surface(std::string_view name,
                                        const std::vector<std::string>& arguments);
 
-/// The registry in the shape the command line prints it (`immerse generate --list`): name,
-/// parameter synopsis ("[N=24] [SEED=1]") and the description with the known answer.
-struct SurfaceGeneratorSummary {
-  std::string name;
-  std::string params;
-  std::string description;
-};
-std::vector<SurfaceGeneratorSummary> surface_generators();
-
-/// What the construction of a generated shape implies; -1 where it is not derived by hand.
-struct ExpectedSurfaceCounts {
-  long regions = -1;  ///< all regions, the unbounded outside one included
-  long cells = -1;    ///< regions with non-zero winding number
-  long patches = -1;
-  long arcs = -1;        ///< geometric arcs, each once (closed intersection loops here)
-  int min_winding = 0;   ///< smallest winding number (negative: an inversion)
-  int max_winding = -1;  ///< largest winding number; -1 = not derived
-  /// 0 = none (exit 3); -1 = not derived (at least 1 when `at_least_one`); with a
-  /// self-connecting cell: the count once helper boxes have cut it (paper §6.2).
-  long immersions = -1;
-  bool at_least_one = false;     ///< an immersion is known to exist (e.g. the components' solids)
-  bool self_connecting = false;  ///< has a self-connecting cell (cut by helper boxes, paper §6.2)
-  std::string error;             ///< as in SurfaceGenerateResult
-};
-
-/// The hand-derived answer for a generator and its arguments (same argument rules as
-/// `generate_surface`). Paper: §4 (regions, cells, patches, arcs), §5 (immersions).
-ExpectedSurfaceCounts expected_surface_counts(std::string_view name,
-                                              const std::vector<std::string>& arguments);
+/// Every surface generator by name, in the order `--list` prints them
+/// (dim3/generator_registry.cpp): find(name), infos(), summaries() for the list.
+const GeneratorRegistry<Surface>& surface_registry();
 
 // ---- embedded controls -------------------------------------------------------------------------
 
@@ -127,6 +74,13 @@ Surface torus(int n);
 /// (1 each), the lens (2): 4 regions, 3 cells, 4 patches (each sphere cut in two), 1 arc,
 /// 1 immersion (the two balls).
 Surface two_spheres(int n);
+
+/// Two overlapping tori (major radius 1, minor 0.4), each revolved from `n` >= 3 profile
+/// samples with n ring sides: 4 n^2 triangles (4,096 at n = 32), the input class of the
+/// reference implementation's CSG timing. Their tubes cross twice: 5 regions, 4 cells
+/// (windings 1, 1, 2, 2), 6 patches, 2 arcs (closed loops), 1 immersion (the two solid tori);
+/// the derivation is at the definition (dim3/generators3.cpp).
+Surface two_tori(int n);
 
 // ---- the paper's figures -------------------------------------------------------------------
 
@@ -263,25 +217,5 @@ Surface tori_pile(int count, std::uint64_t seed, int n = 16);
 /// helix(loops, 12) (the Fig. 13 tube coiled `loops` >= 1 times, radius 1, pitch 0.4) inside a
 /// pile of `count` spheres of radius 0.5 whose centres are uniform in [-1, 1]^2 x [0, 0.4 loops].
 Surface helix_in_spheres(int count, std::uint64_t seed, int loops = 2, int n = 6);
-
-// ---- exact genericity check (CGAL predicates inside) ----------------------------------------
-
-struct SurfaceGenericity {
-  std::size_t intersecting_pairs = 0;  ///< triangle pairs (no shared vertex) that cross
-  bool generic = true;
-  std::string problem;  ///< the first defect found, when not generic
-  /// The crossing triangle pairs (i < j), when asked for.
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-};
-
-/// Exact test (CGAL Epick predicates on the doubles, box_intersection_d for candidates) that
-/// the surface meets itself only in generic crossings: triangles without a shared vertex
-/// either miss each other or cross with every vertex strictly off the other's plane and no edge
-/// meeting an edge of the other; triangles sharing one vertex meet only there; triangles
-/// sharing an edge do not fold onto each other; no two triangles have the same three vertices.
-/// Paper: §3 (non-degenerate input).
-/// @param[in] surface   any triangle mesh with valid indices
-/// @param[in] keep_pairs  fill `pairs`
-SurfaceGenericity check_generic_surface(const Surface& surface, bool keep_pairs = false);
 
 }  // namespace imm::dim3

@@ -16,7 +16,6 @@
 #include <CGAL/Constrained_triangulation_face_base_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
-#include <CGAL/box_intersection_d.h>
 
 #include <algorithm>
 #include <limits>
@@ -26,6 +25,7 @@
 
 #include "core/parallel.h"
 #include "dim3/cut_mesh.h"
+#include "dim3/triangle_pairs.h"
 
 namespace imm::dim3 {
 namespace {
@@ -158,26 +158,7 @@ class Refiner {
   }
 
   std::vector<std::array<std::uint32_t, 2>> candidate_pairs() const {
-    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
-    std::vector<Box> boxes;
-    boxes.reserve(s_.triangle_count());
-    for (std::uint32_t t = 0; t < s_.triangle_count(); ++t) {
-      double lo[3], hi[3];
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = hi[d] = s_.vertices[s_.triangles[t][0]][d];
-        for (int k = 1; k < 3; ++k) {
-          lo[d] = std::min(lo[d], s_.vertices[s_.triangles[t][k]][d]);
-          hi[d] = std::max(hi[d], s_.vertices[s_.triangles[t][k]][d]);
-        }
-      }
-      boxes.emplace_back(lo, hi, t);
-    }
-    std::vector<std::array<std::uint32_t, 2>> pairs;
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
-      pairs.push_back({std::min(a.info(), b.info()), std::max(a.info(), b.info())});
-    });
-    std::sort(pairs.begin(), pairs.end());  // deterministic ids below, whatever the box order
-    return pairs;
+    return overlapping_triangle_pairs(s_);  // sorted: deterministic ids below
   }
 
   // ---- pair classification (exact predicates on the input doubles) ----------------------

@@ -25,6 +25,7 @@
 #include <set>
 #include <string_view>
 
+#include "core/medit.h"
 #include "dim3/tet_mesh.h"
 #include "dim3/text_io.h"
 
@@ -76,23 +77,6 @@ struct RawMesh {
   std::string tet_file;     ///< (TetGen: the .ele file)
   int index_base = 1;       ///< how the file numbers vertices, for messages
 };
-
-/// Reads a header token as a non-negative record count.
-std::optional<long long> parse_count(std::optional<std::string_view> token) {
-  if (!token) return std::nullopt;
-  const auto n = parse_integer(*token);
-  if (!n || *n < 0) return std::nullopt;
-  return n;
-}
-
-/// Reserves room for `n` records of at least `min_record_size` bytes each, bounded by the size
-/// of `text` so that a wrong count costs no memory.
-template <class T>
-void reserve_records(std::vector<T>& records, long long n, std::string_view text,
-                     std::size_t min_record_size) {
-  records.reserve(static_cast<std::size_t>(
-      std::min<long long>(n, static_cast<long long>(text.size() / min_record_size))));
-}
 
 /// Reads `x y z` after an index token, on its line.
 bool read_point(Tokens& tokens, Point3& p) {
@@ -286,115 +270,17 @@ void parse_veg(std::string_view text, RawMesh& raw, Defects& defects) {
   }
 }
 
-// ---- Medit .mesh -------------------------------------------------------------------------------
-
-bool starts_with_letter(std::string_view token) {
-  return !token.empty() && std::isalpha(static_cast<unsigned char>(token.front()));
-}
-
-/// The record count after a section keyword ("Vertices"); nullopt after reporting a bad one.
-std::optional<long long> read_medit_count(Tokens& tokens, const std::string& file,
-                                          std::string_view keyword, const char* what,
-                                          Defects& defects) {
-  const auto n = parse_count(tokens.next());
-  if (!n) {
-    defects.add(DefectKind::Unreadable, at(file, tokens.line()) + "expected the " + what +
-                                            " count after '" + std::string(keyword) + "'");
-  }
-  return n;
-}
+// ---- Medit .mesh (core/medit.h) ---------------------------------------------------------------
 
 void parse_medit(std::string_view text, RawMesh& raw, Defects& defects) {
-  const std::string& file = raw.vertex_file;
-  Tokens tokens(text, {TokenRules::Hash::CommentAnywhere});
-  std::optional<std::string_view> token = tokens.next();
-  while (token) {
-    const std::uint64_t keyword_line = tokens.line();
-    if (!starts_with_letter(*token)) {
-      defects.add(DefectKind::Unreadable,
-                  at(file, keyword_line) +
-                      "expected a Medit keyword ('Vertices', 'Tetrahedra', ...), found " +
-                      quoted(*token));
-      return;
-    }
-    const std::string_view keyword = *token;
-    if (keyword == "End") break;
-    if (keyword == "MeshVersionFormatted") {
-      tokens.next();
-    } else if (keyword == "Dimension") {
-      const auto dimension = tokens.next();
-      if (!dimension || parse_integer(*dimension) != 3) {
-        defects.add(DefectKind::Unreadable, at(file, tokens.line()) +
-                                                "expected 'Dimension 3', found " +
-                                                quoted(dimension.value_or("end of file")) +
-                                                " (a 2D mesh is not a background tet mesh)");
-        return;
-      }
-    } else if (keyword == "Vertices") {
-      const auto n = read_medit_count(tokens, file, keyword, "vertex", defects);
-      if (!n) return;
-      reserve_records(raw.vertices, *n, text, 8);
-      for (long long i = 0; i < *n; ++i) {
-        const auto first = tokens.next();
-        if (!first) return truncated(defects, file, "vertices", i, *n, keyword_line);
-        const std::uint64_t line = tokens.line();
-        Point3 p{};
-        const auto x = parse_double(*first);
-        std::optional<std::string_view> ref;
-        bool ok = x.has_value();
-        if (ok) {
-          p[0] = *x;
-          for (int k = 1; k < 3 && ok; ++k) {
-            const auto t = tokens.next();
-            const auto v = t ? parse_double(*t) : std::nullopt;
-            ok = v.has_value();
-            if (ok) p[k] = *v;
-          }
-          ref = ok ? tokens.next() : std::nullopt;
-          ok = ok && ref && parse_integer(*ref);
-        }
-        if (!ok) {
-          defects.add(DefectKind::Unreadable, at(file, line) + "expected vertex " +
-                                                  std::to_string(i + 1) + " as 'x y z ref'");
-          return;
-        }
-        raw.vertices.push_back(p);
-        raw.vertex_line.push_back(line);
-      }
-    } else if (keyword == "Tetrahedra") {
-      const auto m = read_medit_count(tokens, file, keyword, "tet", defects);
-      if (!m) return;
-      reserve_records(raw.tets, *m, text, 10);
-      for (long long e = 0; e < *m; ++e) {
-        std::array<long long, 5> values{};
-        std::uint64_t line = 0;
-        for (int k = 0; k < 5; ++k) {
-          const auto t = tokens.next();
-          if (!t) return truncated(defects, file, "tets", e, *m, keyword_line);
-          if (k == 0) line = tokens.line();
-          const auto v = parse_integer(*t);
-          if (!v) {
-            defects.add(DefectKind::Unreadable,
-                        at(file, tokens.line()) + "expected tet " + std::to_string(e + 1) +
-                            " as 'v0 v1 v2 v3 ref' (integers), found " + quoted(*t));
-            return;
-          }
-          values[k] = *v;
-        }
-        raw.tets.push_back({values[0] - 1, values[1] - 1, values[2] - 1, values[3] - 1});
-        raw.reference.push_back(static_cast<int>(values[4]));
-        raw.tet_line.push_back(line);
-      }
-    } else {
-      // Triangles, Edges, Corners, Ridges, Required*, Normals, ...: records of numbers only, so
-      // the section ends at the next keyword whatever its record size.
-      do {
-        token = tokens.next();
-      } while (token && !starts_with_letter(*token));
-      continue;
-    }
-    token = tokens.next();
-  }
+  MeditMesh<3> medit;
+  const std::string error = imm::parse_medit<3>(text, raw.vertex_file, medit);
+  raw.vertices = std::move(medit.vertices);
+  raw.vertex_line = std::move(medit.vertex_line);
+  raw.tets = std::move(medit.elements);
+  raw.reference = std::move(medit.reference);
+  raw.tet_line = std::move(medit.element_line);
+  if (!error.empty()) defects.add(DefectKind::Unreadable, error);
 }
 
 // ---- TetGen .node / .ele -----------------------------------------------------------------------
@@ -851,20 +737,7 @@ TetReadResult read_tet_mesh(const std::string& path) {
 }
 
 std::string format_medit_3d(const TetMesh& mesh) {
-  std::string out = "MeshVersionFormatted 2\nDimension 3\nVertices\n" +
-                    std::to_string(mesh.vertices.size()) + "\n";
-  out.reserve(mesh.vertices.size() * 64 + mesh.tets.size() * 40);
-  for (const Point3& p : mesh.vertices) {
-    out += format_xyz(p) + " 0\n";
-  }
-  out += "Tetrahedra\n" + std::to_string(mesh.tets.size()) + "\n";
-  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-    const Tet& tet = mesh.tets[t];
-    for (int v : tet) out += std::to_string(v + 1ll) + ' ';
-    out += std::to_string(t < mesh.reference.size() ? mesh.reference[t] : 0) + '\n';
-  }
-  out += "End\n";
-  return out;
+  return format_medit<3>(mesh.vertices, mesh.tets, mesh.reference);
 }
 
 std::string format_vtu(const TetMesh& mesh) {

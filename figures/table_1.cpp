@@ -5,8 +5,9 @@
 // head, helix, quintuple torus, tree, Sacht small and large) meshed on a generated grid, and the
 // paper's own quintuple torus (../shared/data/real/3d/quintupleTorus.obj) meshed on its Vega
 // background (tet/quintupleTorus.veg), skipped when the data is absent.
-// Checks: the counts the generators derive by hand (dim3::expected_surface_counts), the real
-// quintuple torus's known counts (314 cells, 886 patches, 850 arcs, max winding 7, 84,938 tets),
+// Checks: the counts the generators derive by hand (tests/support/expected_surface_counts.h), the real
+// quintuple torus's counts from the paper (314 cells, 886 patches, 850 arcs, max winding 7, output
+// tets within 0.1% of the paper's 84,905),
 // every output tet count against the mesh (and, for the smallest model, against its .mesh file
 // read back), and t-total >= t-cell + t-imm + t-mesh. Writes table1.md (each of our rows beside
 // the paper's, labelled "paper") and table1.csv.
@@ -27,6 +28,7 @@
 #include "dim3/tet_mesh.h"
 #include "figures/figure_common.h"
 #include "render/mesh_scenes.h"
+#include "tests/support/expected_surface_counts.h"
 
 using namespace imm;
 
@@ -166,7 +168,7 @@ Row run_generated(const std::string& generator, const std::vector<std::string>& 
   std::string model = generator;
   for (const std::string& p : params) model += " " + p;
   Row r = run(model, paper, g.surface, options);
-  const dim3::ExpectedSurfaceCounts e = dim3::expected_surface_counts(generator, params);
+  const test_support::ExpectedSurfaceCounts e = test_support::expected_surface_counts(generator, params);
   figures::expect(e.error.empty(), e.error);
   figures::expect(r.genus == genus, model + ": genus " + std::to_string(r.genus) + ", the construction gives " +
                                         std::to_string(genus));
@@ -239,8 +241,13 @@ int main(int argc, char** argv) {
                       "quintupleTorus.obj: 15,211 vertices, 30,438 triangles, genus 5 (the paper's)");
       figures::expect(r.cells == 314 && r.patches == 886 && r.arcs == 850 && r.max_winding == 7,
                       "quintupleTorus.obj: 314 cells, 886 patches, 850 arcs, max winding 7");
-      figures::expect(r.output_tets == 84938, "quintupleTorus.obj on quintupleTorus.veg: 84,938 output tets, got " +
-                                                  std::to_string(r.output_tets));
+      // The paper's 84,903-84,905 output tets; our cutting of the background tets may differ from
+      // the reference implementation's in a few of them (the exact count is a regression snapshot
+      // of tests/dim3/mesh3_test.cpp, not checked here): within 0.1%.
+      constexpr std::size_t kPaperTets = 84905;
+      figures::expect(r.output_tets * 1000 >= kPaperTets * 999 && r.output_tets * 1000 <= kPaperTets * 1001,
+                      "quintupleTorus.obj on quintupleTorus.veg: within 0.1% of the paper's 84,905 output tets, got " +
+                          std::to_string(r.output_tets));
       rows.push_back(std::move(r));
       real = true;
     } else {

@@ -667,16 +667,12 @@ TEST(SurfaceValidate, MessagesAreCappedPerKind) {
       << report.defects.back().message;
 }
 
-TEST(SurfaceValidate, LargeMeshIsFast) {
+// How long this takes is measured by BM_ValidateSurface_Torus (bench/bench_inputs3.cpp).
+TEST(SurfaceValidate, LargeMeshIsValid) {
   const Surface s = torus(500, 300);  // 300k triangles
   ASSERT_EQ(s.triangle_count(), 300000u);
-  const auto start = std::chrono::steady_clock::now();
   const ValidationReport report = validate_surface(s);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_TRUE(report.ok()) << report.summary();
-  RecordProperty("validate_300k_seconds", std::to_string(seconds));
-  EXPECT_LT(seconds, 1.0) << "validate_surface should be linear-ish (about 0.2 s here)";
 }
 
 // ---- third-party files (../shared/data/real/3d, SOURCES.md)
