@@ -251,10 +251,13 @@ TEST_F(Cli3Test, ExactContactsAreResolvedWithANote) {
   write("vertex_on_face.obj", imm::dim3::format_obj(imm::dim3::merge(a, octahedron({1.375, 0.5, 0.5}, 0.375))));
   const Outcome r = run("immersions vertex_on_face.obj --json report.json");
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_CONTAINS(r.output, "1 exact contact (1 touching), resolved by perturbing the input by at most");
+  // The octahedron's apex (1, 0.5, 0.5) lies on the diagonal edge shared by the box's triangles
+  // 10 and 11 of the face x = 1, and that edge lies in the planes of the two octahedron triangles
+  // whose plane contains it: 2 x 2 vertex-on-triangle pairs and 2 x 2 edge-in-plane pairs.
+  EXPECT_CONTAINS(r.output, "8 exact contacts (8 touching), resolved by perturbing the input by at most");
   const JsonValue j = read_json("report.json");
   EXPECT_TRUE(j["input"]["contacts"]["resolved"].get<bool>());
-  EXPECT_EQ(j["input"]["contacts"]["counts"]["touching"].get<long>(), 1);
+  EXPECT_EQ(j["input"]["contacts"]["counts"]["touching"].get<long>(), 8);
   EXPECT_LE(j["input"]["contacts"]["max_displacement"].get<double>(), std::ldexp(1.0, -30) * 2);
   EXPECT_EQ(j["count"].get<long>(), 1);
   // check lists each contact with its ids (and the input is valid).
