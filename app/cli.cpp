@@ -100,6 +100,9 @@ std::vector<OptionSpec> search_option_specs() {
       {"--max", ValueKind::Integer, "N", "stop after N immersions (default 1)", 1},
       {"--max-states", ValueKind::Integer, "N", "search budget in explored states (default 50000000)", 1},
       {"--time-limit", ValueKind::Real, "S", "search budget in seconds (default none)"},
+      {"--classic-search", ValueKind::Flag, "",
+       "branch on the variable with the fewest options everywhere and grow no sheet by symmetry "
+       "(the search before issue 19; same immersions, often far slower on overlapping parts)"},
   };
 }
 
@@ -152,7 +155,7 @@ std::vector<CommandSpec> make_command_specs() {
   immersions.name = "immersions";
   immersions.usage =
       "immersions IN [--all | --max N] [--max-states N] [--time-limit S]\n"
-      "                         [--json OUT] [--svg DIR] [--no-helper-boxes]";
+      "                         [--json OUT] [--svg DIR] [--no-helper-boxes] [--classic-search]";
   immersions.positional_help = check.positional_help;
   immersions.description =
       "Searches the immersions of IN (paper §6, Algorithm 1): graphs of cell copies satisfying Rules 1-7.\n"
@@ -313,6 +316,8 @@ SearchOptions search_options(const Session& s, const SearchRequest& request) {
   options.max_immersions = request.max_immersions;
   options.max_states = request.max_states;
   options.time_limit_seconds = request.time_limit;
+  options.sheets_first = !request.classic_search;
+  options.continue_sheets = !request.classic_search;
   options.progress = s.progress("search");
   return options;
 }
@@ -698,6 +703,7 @@ std::string parse_search_request(const CommandLine& cl, SearchRequest& request) 
   if (auto n = cl.integer("--max")) request.max_immersions = static_cast<std::size_t>(*n);
   if (auto n = cl.integer("--max-states")) request.max_states = static_cast<std::size_t>(*n);
   if (auto t = cl.real("--time-limit")) request.time_limit = *t;
+  request.classic_search = cl.has("--classic-search");
   return {};
 }
 

@@ -68,6 +68,7 @@ struct SearchRequest {
   std::size_t max_immersions = 1;
   std::size_t max_states = SearchOptions{}.max_states;
   double time_limit = 0.0;
+  bool classic_search = false;  ///< --classic-search: SearchOptions::sheets_first, continue_sheets off
 };
 
 // ---- one run: timings, counts, written files -------------------------------------------------

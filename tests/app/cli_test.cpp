@@ -406,6 +406,24 @@ TEST_F(CliTest, GenerateListsAndWritesCurves) {
   EXPECT_CONTAINS(check.output, "valid");
 }
 
+/// Issue 19: a generated pile of overlapping circles is immersible with either search order,
+/// and the old order (--classic-search) explores more states for the same first immersion.
+TEST_F(CliTest, CirclesPileWithBothSearchOrders) {
+  const Outcome g = run("generate circles-pile k=10 seed=2 n=16 -o pile.txt");
+  ASSERT_EQ(g.code, 0) << g.output;
+  const Outcome fast = run("immersions pile.txt --json fast.json");
+  ASSERT_EQ(fast.code, 0) << fast.output;
+  const Outcome slow = run("immersions pile.txt --classic-search --json slow.json");
+  ASSERT_EQ(slow.code, 0) << slow.output;
+  const auto states = [&](const std::string& file) {
+    return nlohmann::json::parse(read(file))["stats"]["states"].get<long>();
+  };
+  EXPECT_LT(states("fast.json"), states("slow.json"));
+  const Outcome all = run("immersions pile.txt --all --classic-search");
+  EXPECT_EQ(all.code, 0) << all.output;
+  EXPECT_CONTAINS(all.output, "1 immersion");
+}
+
 TEST_F(CliTest, GeneratedFiguresGiveTheirKnownVerdicts) {
   // `immerse generate` then `immerse immersions --all` on the paper's figure curves
   // (dim2/generators.h): the counts the generators are designed for, through the binary.
