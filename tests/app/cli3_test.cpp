@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "dim3/self_connecting.h"
+#include "support/immerse_fixture.h"
 #include "dim3/surface.h"
 #include "dim3/tet_mesh.h"
 
@@ -81,62 +82,13 @@ const std::string kTetraFaces = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
 
 // ---- the fixture --------------------------------------------------------------------------------
 
-struct Outcome {
-  int code = -1;
-  std::string output;  // stdout and stderr together
-};
+using imm::test::Outcome;
 
-class Cli3Test : public testing::Test {
+class Cli3Test : public imm::test::ImmerseTest {
  protected:
-  void SetUp() override {
-    if (!fs::exists(IMM_IMMERSE_EXE)) GTEST_SKIP() << "no immerse binary at " << IMM_IMMERSE_EXE;
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("imm_cli3_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (dir_.empty()) return;
-    // DESIGN §3: never a half-written output, and no temporary file left behind.
-    for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
-      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos)
-          << "temporary file left behind: " << entry.path();
-    }
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-
-  /// Runs `immerse ARGS` in the test directory.
-  Outcome run(const std::string& args) const {
-    const std::string command =
-        "cd '" + dir_.string() + "' && '" IMM_IMMERSE_EXE "' " + args + " 2>&1";
-    Outcome r;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (pipe == nullptr) return r;
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-    const int status = ::pclose(pipe);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-  }
-
-  void write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir_ / name, std::ios::binary) << text;
-  }
-  void write(const std::string& name, const Surface& s) const {
-    write(name, imm::dim3::format_obj(s));
-  }
-  std::string read(const std::string& name) const {
-    std::ifstream in(dir_ / name, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
+  using ImmerseTest::write;
+  void write(const std::string& name, const Surface& s) const { write(name, imm::dim3::format_obj(s)); }
   JsonValue read_json(const std::string& name) const { return nlohmann::json::parse(read(name)); }
-  bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
-
-  fs::path dir_;
 };
 
 #define EXPECT_CONTAINS(text, piece) \

@@ -12,63 +12,15 @@
 #include <sstream>
 #include <string>
 
+#include "support/immerse_fixture.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int code = -1;
-  std::string output;  // stdout and stderr together
-};
+using imm::test::Outcome;
 
-class DeformCli : public testing::Test {
- protected:
-  void SetUp() override {
-    if (!fs::exists(IMM_IMMERSE_EXE)) GTEST_SKIP() << "no immerse binary at " << IMM_IMMERSE_EXE;
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("imm_deform_cli_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    if (dir_.empty()) return;
-    // DESIGN §3: never a half-written output, and no temporary file left behind.
-    for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
-      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos)
-          << "temporary file left behind: " << entry.path();
-    }
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-
-  /// Runs `immerse ARGS` in the test directory.
-  Outcome run(const std::string& args) const {
-    const std::string command = "cd '" + dir_.string() + "' && '" IMM_IMMERSE_EXE "' " + args + " 2>&1";
-    Outcome r;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (pipe == nullptr) return r;
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-    const int status = ::pclose(pipe);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-  }
-
-  void write(const std::string& name, const std::string& text) const {
-    fs::create_directories((dir_ / name).parent_path());
-    std::ofstream(dir_ / name, std::ios::binary) << text;
-  }
-  std::string read(const std::string& name) const {
-    std::ifstream in(dir_ / name, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-  bool exists(const std::string& name) const { return fs::exists(dir_ / name); }
-
-  fs::path dir_;
-};
+class DeformCli : public imm::test::ImmerseTest {};
 
 constexpr const char* kPullApart = R"({"handles": [
   {"box": {"min": [-10000, -10000], "max": [-650, 10000]}, "displacement": [-800, 0]},
