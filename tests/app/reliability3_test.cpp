@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "support/run_immerse.h"
+#include "support/immerse_fixture.h"
 
 namespace {
 
@@ -32,27 +32,7 @@ std::string tetra_obj(const std::array<std::array<double, 3>, 4>& v) {
   return os.str();
 }
 
-class Reliability3 : public testing::Test {
- protected:
-  void SetUp() override {
-    if (!fs::exists(IMM_IMMERSE_EXE)) GTEST_SKIP() << "no immerse binary at " << IMM_IMMERSE_EXE;
-    dir_ = imm::test::fresh_test_directory("imm_rel3", testing::UnitTest::GetInstance()->current_test_info()->name());
-  }
-  void TearDown() override {
-    if (dir_.empty()) return;
-    for (const auto& entry : fs::recursive_directory_iterator(dir_))
-      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "temporary left: " << entry.path();
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  RunOutcome run(const std::string& args) const {
-    RunOutcome r = imm::test::run_immerse(dir_, args);
-    EXPECT_EQ(r.signal, 0) << "immerse " << args << " was killed by signal " << r.signal << "\n" << r.output;
-    return r;
-  }
-  void write(const std::string& name, const std::string& text) const { imm::test::write_file(dir_ / name, text); }
-  [[nodiscard]] std::string read(const std::string& name) const { return imm::test::read_file(dir_ / name); }
-  fs::path dir_;
-};
+class Reliability3 : public imm::test::ImmerseTest {};
 
 // Defect 2: SIGFPE beyond about 5.6e102 (a double volume overflowed and became a rational).
 TEST_F(Reliability3, LargeCoordinatesDoNotOverflowTheVolumes) {

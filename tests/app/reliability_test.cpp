@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "support/run_immerse.h"
+#include "support/immerse_fixture.h"
 
 namespace {
 
@@ -22,26 +22,8 @@ using imm::test::RunOutcome;
 #define EXPECT_CONTAINS(text, piece) \
   EXPECT_NE((text).find(piece), std::string::npos) << "expected '" << (piece) << "' in:\n" << (text)
 
-class Reliability2 : public testing::Test {
+class Reliability2 : public imm::test::ImmerseTest {
  protected:
-  void SetUp() override {
-    if (!fs::exists(IMM_IMMERSE_EXE)) GTEST_SKIP() << "no immerse binary at " << IMM_IMMERSE_EXE;
-    dir_ = imm::test::fresh_test_directory("imm_rel2", testing::UnitTest::GetInstance()->current_test_info()->name());
-  }
-  void TearDown() override {
-    if (dir_.empty()) return;
-    for (const auto& entry : fs::recursive_directory_iterator(dir_))
-      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << "temporary left: " << entry.path();
-    if (!HasFailure()) fs::remove_all(dir_);
-  }
-  RunOutcome run(const std::string& args) const {
-    RunOutcome r = imm::test::run_immerse(dir_, args);
-    EXPECT_EQ(r.signal, 0) << "immerse " << args << " was killed by signal " << r.signal << "\n" << r.output;
-    return r;
-  }
-  void write(const std::string& name, const std::string& text) const { imm::test::write_file(dir_ / name, text); }
-  [[nodiscard]] std::string read(const std::string& name) const { return imm::test::read_file(dir_ / name); }
-
   /// The curve of `name` with every coordinate multiplied by `scale` and shifted by `shift`,
   /// written as `out` (exact when scale is a power of two and shift is 0).
   void transform_curve(const std::string& name, double scale, double shift, const std::string& out) const {
@@ -77,7 +59,6 @@ class Reliability2 : public testing::Test {
     }
     return out;
   }
-  fs::path dir_;
 };
 
 // Defect 1: SIGSEGV inside the arrangement sweep at large coordinates (CGAL's interval filters

@@ -30,8 +30,13 @@ class ImmerseTest : public testing::Test {
     if (!HasFailure()) std::filesystem::remove_all(dir_);
   }
 
-  /// Runs `immerse ARGS` in the test directory (stdout and stderr together).
-  [[nodiscard]] Outcome run(const std::string& args) const { return run_immerse(dir_, args); }
+  /// Runs `immerse ARGS` in the test directory (stdout and stderr together); a signal is a
+  /// failure of its own (a crash is never an expected verdict).
+  [[nodiscard]] Outcome run(const std::string& args) const {
+    Outcome r = run_immerse(dir_, args);
+    EXPECT_EQ(r.signal, 0) << "immerse " << args << " was killed by signal " << r.signal << "\n" << r.output;
+    return r;
+  }
   void write(const std::string& name, const std::string& text) const { write_file(dir_ / name, text); }
   [[nodiscard]] std::string read(const std::string& name) const { return read_file(dir_ / name); }
   [[nodiscard]] bool exists(const std::string& name) const { return std::filesystem::exists(dir_ / name); }
