@@ -96,10 +96,6 @@ terminal. Outputs are written to '<path>.tmp.<pid>' and renamed: never a partial
 
 // ---- the commands' options (parsed by CLI11, app/command_line.h) --------------------------------
 
-constexpr const char* kExitCodesFooter =
-    "Exit codes: 0 ok, 1 internal error or unwritable output, 2 invalid input, 3 not immersible,\n"
-    "64 bad command line.\n";
-
 std::vector<OptionSpec> search_option_specs() {
   return {
       {"--all", ValueKind::Flag, "", "enumerate every immersion (pairwise non-isomorphic)"},
@@ -964,8 +960,6 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
   return kExitOk;
 }
 
-/// Largest 3D grid resolution: 6 x 152^3 tets is about 21 million.
-constexpr int kMaxResolution3 = 150;
 
 int command_mesh(Session& s, const CommandLine& cl) {
   const CliEnvironment& env = s.env();
@@ -995,9 +989,8 @@ int command_mesh(Session& s, const CommandLine& cl) {
     options3.method = options.method;
     if (options.background_path) options3.background_path = options.background_path;
     if (cl.has("--resolution")) {
-      if (options.resolution > kMaxResolution3) {
-        return usage_error(env, "mesh", "--resolution " + std::to_string(options.resolution) + ": at most " +
-                                            std::to_string(kMaxResolution3) + " grid cubes along the longest side in 3D");
+      if (const std::string error = check_resolution3(options.resolution); !error.empty()) {
+        return usage_error(env, "mesh", error);
       }
       options3.resolution = options.resolution;
     }

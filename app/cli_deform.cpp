@@ -354,6 +354,11 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   SearchOptions search;
   search.max_immersions = k + 1;
   if (is_surface_file(path)) {
+    if (auto n = cl.integer("--resolution")) {
+      if (const std::string error = check_resolution3(static_cast<int>(*n)); !error.empty()) {
+        return usage_error(s.env(), command, error);
+      }
+    }
     dim3::SurfaceReadResult read = s.timed("read", [&] { return dim3::read_surface(path); });
     if (!read.report.ok()) {
       print_defects(s, path, read.report);
@@ -369,7 +374,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     }
     if (im.build.inversion || im.search.immersions.size() <= k) return no_immersion(s, command, path, im.search);
     dim3::MeshOptions3 options;
-    options.resolution = static_cast<int>(cl.integer("--resolution").value_or(16));
+    options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
     if (auto b = cl.value("--background")) options.background_path = *b;
     const dim3::MeshResult3 m = s.timed("mesh", [&] {
       return dim3::mesh_immersion3(*im.build.complex, im.search.immersions[k], options, im.input_vertices, im.input_triangles);
@@ -406,7 +411,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   if (!built.inversion) r = s.timed("search", [&] { return find_immersions(built.complex->complex, search); });
   if (built.inversion || r.immersions.size() <= k) return no_immersion(s, command, path, r);
   dim2::MeshOptions options;
-  options.resolution = static_cast<int>(cl.integer("--resolution").value_or(24));
+  options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
   if (auto b = cl.value("--background")) options.background_path = *b;
   const dim2::MeshResult m = s.timed("mesh", [&] { return dim2::mesh_immersion(*built.complex, r.immersions[k], options); });
   if (!m.report.ok()) {

@@ -599,6 +599,8 @@ TEST_F(Cli3Test, UsageErrorsExitWith64) {
       "mesh two.obj --svg two.svg",     // mesh drawings are 2D
       "mesh two.obj --conforming",
       "mesh two.obj --resolution 151",  // beyond the 3D grid limit
+      "deform two.obj --handles h.json -o d --resolution 151",  // the same limit, before any work
+      "weights two.obj --handles h.json -o w.vtu --resolution 151",
       "mesh two.obj --background two.obj",
       "mesh two.obj --all --immersion 0",
       "mesh square.txt --all",          // 3D only
