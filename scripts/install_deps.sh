@@ -8,6 +8,7 @@ packages=(build-essential cmake ccache libcgal-dev libgmp-dev libmpfr-dev libboo
 # Pictures (render/): POV-Ray renders the 3D figures headless, libpng reads PNGs back for the
 # content checks, rsvg-convert makes PNG previews of the 2D SVGs.
 packages+=(povray libpng-dev librsvg2-bin)
+packages+=(pybind11-dev python3-dev python3-numpy)  # the Python module (python/) and its tests
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,529 @@
+// The public API (api/immersion/immersion.h) over the libraries: converts arrays, calls
+// dim2/dim3/core, and turns their reports into immersion::Error with the program's messages.
+// No algorithm here: each function is the library call the program makes for the same command.
+#include "immersion/immersion.h"
+
+#include <cctype>
+#include <limits>
+#include <utility>
+
+#include "core/atomic_file.h"
+#include "core/exit_codes.h"
+#include "core/graph_search.h"
+#include "dim2/complex2.h"
+#include "dim2/curves.h"
+#include "dim2/mesh2.h"
+#include "dim3/complex3.h"
+#include "dim3/mesh3.h"
+#include "dim3/self_connecting.h"
+#include "dim3/surface.h"
+#include "dim3/tet_mesh.h"
+
+#ifndef IMM_VERSION
+#define IMM_VERSION "0.0.0"
+#endif
+
+namespace immersion {
+
+namespace detail {
+template <>
+struct ComplexData<2> {
+  std::shared_ptr<const imm::dim2::Complex2> complex;
+  bool exact_measures = true;  ///< 2D areas are always exact
+};
+template <>
+struct ComplexData<3> {
+  std::shared_ptr<const imm::dim3::Complex3> complex;
+  bool exact_measures = true;  ///< BuildOptions::exact_volumes
+};
+template <>
+struct ImmersionsData<2> {
+  std::string name;
+  imm::SearchResult search;
+};
+template <>
+struct ImmersionsData<3> {
+  std::string name;
+  imm::dim3::Immersed3 immersed;
+};
+}  // namespace detail
+
+namespace {
+
+using imm::ImmersionStatus;
+using imm::SearchResult;
+using imm::ValidationReport;
+
+std::string plural(std::size_t n, const std::string& word, const std::string& words = "") {
+  return std::to_string(n) + " " + (n == 1 ? word : (words.empty() ? word + "s" : words));
+}
+
+/// A report's lines without the last line break (what() is one message, not a file).
+std::string lines_of(const ValidationReport& report,
+                     std::size_t max_lines = std::numeric_limits<std::size_t>::max()) {
+  std::string text = report.summary(max_lines);
+  if (!text.empty() && text.back() == '\n') text.pop_back();
+  return text;
+}
+
+/// The program's "invalid input 'PATH': N defects" and every defect.
+[[noreturn]] void throw_defects(const std::string& name, const ValidationReport& report) {
+  throw Error(ErrorKind::InvalidInput,
+              "invalid input '" + name + "': " + plural(report.total(), "defect") + "\n" + lines_of(report));
+}
+
+/// The program's verdict line for a search without immersions (print_no_immersion).
+[[noreturn]] void throw_no_immersion(const std::string& name, const SearchResult& r,
+                                     const std::string& hint = "") {
+  std::string text = "'" + name + "' ";
+  switch (r.status) {
+    case ImmersionStatus::NotImmersible:
+      text += "is not immersible";
+      if (r.conflict.rule > 0 &&
+          r.conflict.message.find("Rule " + std::to_string(r.conflict.rule)) == std::string::npos)
+        text += " (Rule " + std::to_string(r.conflict.rule) + " cannot be satisfied)";
+      text += ": " + r.conflict.message;
+      break;
+    case ImmersionStatus::SelfConnectingCell:
+      text += "is not simply immersible: " + r.conflict.message;
+      break;
+    case ImmersionStatus::SearchBudgetExhausted:
+      text += "could not be decided: " + r.conflict.message + " (raise --max-states / --time-limit)";
+      break;
+    case ImmersionStatus::Immersible:
+      text += "is immersible";
+      break;
+  }
+  throw Error(ErrorKind::NotImmersible, text + hint);
+}
+
+imm::SearchOptions search_options(const SearchOptions& o) {
+  imm::SearchOptions s;
+  s.max_immersions = o.max_immersions;
+  s.max_states = o.max_states;
+  s.time_limit_seconds = o.time_limit_seconds;
+  return s;
+}
+
+/// Runs f, turning a library bug (InvariantError) or any other exception into Error Internal.
+template <class F>
+auto guarded(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error(ErrorKind::Internal, std::string("internal error: ") + e.what());
+  }
+}
+
+imm::dim2::CurveSet to_curve_set(const Curves& in) {
+  imm::dim2::CurveSet out;
+  out.curves.reserve(in.curves.size());
+  for (const auto& curve : in.curves) {
+    imm::dim2::Curve c;
+    c.vertices.reserve(curve.size());
+    for (const auto& p : curve) c.vertices.push_back({p[0], p[1]});
+    out.curves.push_back(std::move(c));
+  }
+  return out;
+}
+
+/// The surface as the libraries take it; an index out of range is a defect like the readers'.
+imm::dim3::Surface to_surface(const Surface& in) {
+  imm::dim3::Surface out;
+  out.vertices = in.vertices;
+  out.triangles.reserve(in.triangles.size());
+  ValidationReport report;
+  for (std::size_t t = 0; t < in.triangles.size(); ++t) {
+    imm::dim3::Triangle tri{};
+    for (int k = 0; k < 3; ++k) {
+      const int v = in.triangles[t][k];
+      if (v < 0 || static_cast<std::size_t>(v) >= in.vertices.size()) {
+        report.add(imm::Defect{imm::DefectKind::OutOfRange, "input",
+                               "triangle " + std::to_string(t) + " refers to vertex " +
+                                   std::to_string(v) + ", but there are " +
+                                   std::to_string(in.vertices.size()) + " vertices",
+                               {static_cast<long>(t)}, {static_cast<long>(v)}, {}});
+      }
+      tri[k] = static_cast<std::uint32_t>(v);
+    }
+    out.triangles.push_back(tri);
+    out.source_face.push_back(static_cast<std::uint32_t>(t));
+  }
+  if (!report.ok()) throw_defects(in.name, report);
+  return out;
+}
+
+Complex<2> wrap(std::shared_ptr<const imm::dim2::Complex2> c) {
+  Complex<2> out;
+  out.data_ = std::make_shared<detail::ComplexData<2>>(detail::ComplexData<2>{std::move(c), true});
+  return out;
+}
+
+Complex<3> wrap(std::shared_ptr<const imm::dim3::Complex3> c) {
+  const bool exact = c->exact_volumes;
+  Complex<3> out;
+  out.data_ = std::make_shared<detail::ComplexData<3>>(detail::ComplexData<3>{std::move(c), exact});
+  return out;
+}
+
+ImmersionGraph graph_of(const imm::Immersion& im) {
+  ImmersionGraph g;
+  for (std::size_t n = 0; n < im.layout.node_count(); ++n)
+    g.node_cell.push_back(im.layout.cell(imm::NodeId(static_cast<int>(n))).value());
+  for (const imm::ImmersionEdge& e : im.edges)
+    g.edges.push_back({e.inner.value(), e.outer.value(), e.patch.value()});
+  for (std::size_t p = 0; p < im.owner.size(); ++p)
+    g.patch_owner.push_back(im.owner[imm::PatchId(static_cast<int>(p))].value());
+  g.components = im.components().size();
+  return g;
+}
+
+}  // namespace
+
+// The header is self-contained (no core/ include), so its exit codes are checked here against
+// the program's (core/exit_codes.h).
+static_assert(exit_code_of(ErrorKind::InvalidInput) == imm::kExitInvalidInput);
+static_assert(exit_code_of(ErrorKind::NotImmersible) == imm::kExitNotImmersible);
+static_assert(exit_code_of(ErrorKind::Internal) == imm::kExitInternalError);
+
+std::string version() { return IMM_VERSION; }
+
+// ---- Complex ---------------------------------------------------------------------------------------
+
+template <int D>
+const imm::CellComplex<D>& cell_complex(const Complex<D>& c) {
+  if (!c.data_ || !c.data_->complex) throw Error(ErrorKind::Internal, "empty immersion::Complex");
+  return c.data_->complex->complex;
+}
+
+template <int D>
+std::size_t Complex<D>::region_count() const { return cell_complex(*this).region_count(); }
+template <int D>
+std::size_t Complex<D>::cell_count() const { return cell_complex(*this).cell_count(); }
+template <int D>
+std::size_t Complex<D>::patch_count() const { return cell_complex(*this).patch_count(); }
+template <int D>
+std::size_t Complex<D>::arc_count() const { return cell_complex(*this).arc_count(); }
+template <int D>
+int Complex<D>::max_winding_number() const { return cell_complex(*this).max_winding_number(); }
+template <int D>
+bool Complex<D>::reversed() const {
+  cell_complex(*this);
+  return data_->complex->reversed;
+}
+template <int D>
+std::vector<int> Complex<D>::cell_winding_numbers() const {
+  const auto& c = cell_complex(*this);
+  std::vector<int> out;
+  for (imm::CellId cell : imm::ids<imm::CellId>(c.cell_count())) out.push_back(c.winding_number(cell));
+  return out;
+}
+template <int D>
+std::vector<double> Complex<D>::cell_measures() const {
+  const auto& c = cell_complex(*this);
+  std::vector<double> out;
+  for (imm::CellId cell : imm::ids<imm::CellId>(c.cell_count()))
+    out.push_back(imm::to_double(c.measure(c.region_of(cell))));
+  return out;
+}
+template <int D>
+std::vector<std::string> Complex<D>::cell_measures_exact() const {
+  const auto& c = cell_complex(*this);
+  const bool exact = data_->exact_measures;
+  std::vector<std::string> out;
+  for (imm::CellId cell : imm::ids<imm::CellId>(c.cell_count()))
+    out.push_back(exact ? imm::to_string(c.measure(c.region_of(cell))) : std::string());
+  return out;
+}
+template <int D>
+std::vector<int> Complex<D>::cell_regions() const {
+  const auto& c = cell_complex(*this);
+  std::vector<int> out;
+  for (imm::CellId cell : imm::ids<imm::CellId>(c.cell_count())) out.push_back(c.region_of(cell).value());
+  return out;
+}
+template <int D>
+std::vector<std::array<int, 2>> Complex<D>::patch_regions() const {
+  const auto& c = cell_complex(*this);
+  std::vector<std::array<int, 2>> out;
+  for (imm::PatchId p : imm::ids<imm::PatchId>(c.patch_count()))
+    out.push_back({c.sides(p).positive.value(), c.sides(p).negative.value()});
+  return out;
+}
+
+template class Complex<2>;
+template class Complex<3>;
+
+// ---- reading ---------------------------------------------------------------------------------------
+
+Curves read_curves(const std::string& path) {
+  return guarded([&] {
+    imm::dim2::ReadResult read = imm::dim2::read_curves(path);
+    if (!read.report.ok()) throw_defects(path, read.report);
+    Curves out;
+    out.name = path;
+    for (const imm::dim2::Curve& c : read.curves.curves) {
+      auto& curve = out.curves.emplace_back();
+      for (const imm::dim2::Point& p : c.vertices) curve.push_back({p.x, p.y});
+    }
+    return out;
+  });
+}
+
+Surface read_surface(const std::string& path) {
+  return guarded([&] {
+    imm::dim3::SurfaceReadResult read = imm::dim3::read_surface(path);
+    if (!read.report.ok()) throw_defects(path, read.report);
+    Surface out;
+    out.name = path;
+    out.vertices = std::move(read.surface.vertices);
+    out.triangles.reserve(read.surface.triangles.size());
+    for (const imm::dim3::Triangle& t : read.surface.triangles)
+      out.triangles.push_back({static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
+    return out;
+  });
+}
+
+// ---- building ----------------------------------------------------------------------------------
+
+namespace {
+
+/// build_complex for curves, shared by build_complex and find_immersions (prepare_curves).
+std::shared_ptr<const imm::dim2::Complex2> built_curves(const Curves& curves) {
+  imm::dim2::BuildResult built = imm::dim2::build_complex(to_curve_set(curves));
+  if (!built.report.ok()) throw_defects(curves.name, built.report);
+  if (built.inversion)
+    throw Error(ErrorKind::NotImmersible, "'" + curves.name + "' is not immersible: " + built.inversion->message);
+  if (!built.complex) throw Error(ErrorKind::Internal, "build_complex returned no complex");
+  return built.complex;
+}
+
+}  // namespace
+
+Complex<2> build_complex(const Curves& curves, const BuildOptions&) {
+  return guarded([&] { return wrap(built_curves(curves)); });
+}
+
+Complex<3> build_complex(const Surface& surface, const BuildOptions& options) {
+  return guarded([&] {
+    imm::dim3::BuildOptions3 o;
+    o.exact_volumes = options.exact_volumes;
+    o.threads = options.threads;
+    imm::dim3::BuildResult3 built = imm::dim3::build_complex3(to_surface(surface), o);
+    if (!built.report.ok()) throw_defects(surface.name, built.report);
+    if (built.inversion)
+      throw Error(ErrorKind::NotImmersible, "'" + surface.name + "' is not immersible: " + built.inversion->message);
+    if (!built.complex) throw Error(ErrorKind::Internal, "build_complex3 returned no complex");
+    return wrap(std::shared_ptr<const imm::dim3::Complex3>(built.complex));
+  });
+}
+
+// ---- searching ---------------------------------------------------------------------------------
+
+Immersions<2> find_immersions(const Curves& curves, const SearchOptions& options) {
+  return guarded([&] {
+    Immersions<2> out;
+    out.complex = wrap(built_curves(curves));
+    auto data = std::make_shared<detail::ImmersionsData<2>>();
+    data->name = curves.name;
+    data->search = imm::find_immersions(out.complex.data_->complex->complex, search_options(options));
+    if (data->search.status != ImmersionStatus::Immersible) throw_no_immersion(curves.name, data->search);
+    for (const imm::Immersion& im : data->search.immersions) out.graphs.push_back(graph_of(im));
+    out.complete = data->search.complete;
+    out.data_ = std::move(data);
+    return out;
+  });
+}
+
+Immersions<3> find_immersions(const Surface& surface, const SearchOptions& options) {
+  return guarded([&] {
+    imm::dim3::ImmerseOptions3 o;
+    o.build.exact_volumes = false;  // the search reads no volume (as the program)
+    o.build.threads = options.threads;
+    o.search = search_options(options);
+    if (!options.helper_boxes) o.max_boxes = 0;
+    auto data = std::make_shared<detail::ImmersionsData<3>>();
+    data->name = surface.name;
+    data->immersed = imm::dim3::immerse_surface(to_surface(surface), o);
+    const imm::dim3::Immersed3& im = data->immersed;
+    Immersions<3> out;
+    out.notes = im.notes;
+    out.helper_boxes = im.helper_boxes.size();
+    if (!im.build.report.ok()) {
+      std::string note;
+      for (const imm::Defect& d : im.build.report.defects) {
+        for (long f : d.facets) {
+          if (f >= static_cast<long>(im.input_triangles) && note.empty()) {
+            note = "\nnote: triangles from id " + std::to_string(im.input_triangles) +
+                   " on belong to the helper boxes added for self-connecting cells; run with "
+                   "--no-helper-boxes to see the verdict without them";
+          }
+        }
+      }
+      try {
+        throw_defects(surface.name, im.build.report);
+      } catch (const Error& e) {
+        throw Error(ErrorKind::InvalidInput, e.what() + note);
+      }
+    }
+    if (im.build.inversion)
+      throw Error(ErrorKind::NotImmersible, "'" + surface.name + "' is not immersible: " + im.build.inversion->message);
+    if (!im.build.complex) throw Error(ErrorKind::Internal, "immerse_surface returned no complex");
+    if (im.search.status != ImmersionStatus::Immersible) {
+      // The program's hint (helper_box_hint).
+      const std::size_t boxes = im.helper_boxes.size();
+      std::string hint;
+      if (im.search.status == ImmersionStatus::SelfConnectingCell && !options.helper_boxes)
+        hint = " (helper boxes disabled by --no-helper-boxes)";
+      else if (im.search.status == ImmersionStatus::SelfConnectingCell)
+        hint = " (still self-connecting after " + plural(boxes, "helper box", "helper boxes") + ")";
+      if (boxes > 0)
+        hint += " [cell, patch and arc ids refer to the input with " +
+                plural(boxes, "helper box", "helper boxes") + " added; see the notes above]";
+      throw_no_immersion(surface.name, im.search, hint);
+    }
+    out.complex = wrap(std::shared_ptr<const imm::dim3::Complex3>(im.build.complex));
+    for (const imm::Immersion& g : im.search.immersions) out.graphs.push_back(graph_of(g));
+    out.complete = im.search.complete;
+    out.data_ = std::move(data);
+    return out;
+  });
+}
+
+// ---- meshing -------------------------------------------------------------------------------------
+
+namespace {
+
+template <int D>
+void check_immersion_index(const Immersions<D>& found, const MeshOptions& options, const std::string& name) {
+  if (!found.data_) throw Error(ErrorKind::Internal, "empty immersion::Immersions");
+  if (options.immersion >= found.graphs.size()) {
+    throw Error(ErrorKind::InvalidInput,
+                "--immersion " + std::to_string(options.immersion) + ": '" + name + "' has only " +
+                    plural(found.graphs.size(), "immersion") + " (numbered from 0)" +
+                    (found.complete ? "" : "; the search stopped early, raise --max-states"));
+  }
+}
+
+imm::MeshMethod method_of(MeshMethod m) {
+  return m == MeshMethod::Csg ? imm::MeshMethod::Csg : imm::MeshMethod::Clip;
+}
+
+}  // namespace
+
+SimplexMesh<2> mesh_immersion(const Immersions<2>& found, const MeshOptions& options) {
+  return guarded([&] {
+    const std::string name = found.data_ ? found.data_->name : std::string();
+    check_immersion_index(found, options, name);
+    imm::dim2::MeshOptions o;
+    if (options.resolution) o.resolution = *options.resolution;
+    o.background_path = options.background;
+    o.conforming = options.conforming;
+    o.method = method_of(options.method);
+    const imm::dim2::MeshResult m = imm::dim2::mesh_immersion(
+        *found.complex.data_->complex, found.data_->search.immersions[options.immersion], o);
+    if (!m.report.ok()) {
+      throw Error(ErrorKind::InvalidInput, "cannot mesh '" + name + "': " +
+                                               plural(m.report.defects.size(), "defect") + "\n" +
+                                               lines_of(m.report));
+    }
+    SimplexMesh<2> out;
+    out.vertices.reserve(m.mesh.vertices.size());
+    for (const imm::dim2::Point& p : m.mesh.vertices) out.vertices.push_back({p.x, p.y});
+    out.elements = m.mesh.triangles;
+    out.node = m.mesh.reference;
+    for (const imm::dim2::EmbeddedVertex& e : m.embedding) {
+      out.embedding_element.push_back(e.element);
+      out.embedding_weights.push_back(e.weights);
+    }
+    return out;
+  });
+}
+
+SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& options) {
+  return guarded([&] {
+    const std::string name = found.data_ ? found.data_->name : std::string();
+    check_immersion_index(found, options, name);
+    imm::dim3::MeshOptions3 o;
+    if (options.resolution) o.resolution = *options.resolution;
+    o.background_path = options.background;
+    o.method = method_of(options.method);
+    o.threads = options.threads;
+    const imm::dim3::Immersed3& im = found.data_->immersed;
+    imm::dim3::MeshResult3 m = imm::dim3::mesh_immersion3(
+        *im.build.complex, im.search.immersions[options.immersion], o, im.input_vertices, im.input_triangles);
+    if (!m.report.ok()) {
+      throw Error(ErrorKind::InvalidInput, "cannot mesh '" + name + "': " + plural(m.report.total(), "defect") +
+                                               "\n" + lines_of(m.report, 20));
+    }
+    SimplexMesh<3> out;
+    out.vertices = std::move(m.mesh.vertices);
+    out.elements.reserve(m.mesh.tets.size());
+    for (const imm::dim3::Tet& t : m.mesh.tets) out.elements.push_back(t);
+    out.node = std::move(m.mesh.reference);
+    for (const imm::dim3::EmbeddedVertex3& e : m.embedding) {
+      out.embedding_element.push_back(e.element);
+      out.embedding_weights.push_back(e.weights);
+    }
+    out.input_shift = m.stats.input_shift;
+    return out;
+  });
+}
+
+// ---- writing -------------------------------------------------------------------------------------
+
+namespace {
+
+void write_or_throw(const std::string& path, const std::string& content) {
+  const imm::WriteStatus status = imm::write_file_atomic(path, content);
+  if (!status.ok()) throw Error(ErrorKind::Internal, status.error);
+}
+
+std::string lower_extension(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  const std::size_t slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
+void write_mesh(const SimplexMesh<2>& mesh, const std::string& path) {
+  guarded([&] {
+    if (lower_extension(path) != ".mesh")
+      throw Error(ErrorKind::InvalidInput, path + ": a triangle mesh is written as .mesh");
+    imm::dim2::TriangleMesh m;
+    for (const auto& p : mesh.vertices) m.vertices.push_back({p[0], p[1]});
+    m.triangles = mesh.elements;
+    m.reference = mesh.node;
+    write_or_throw(path, imm::dim2::format_medit_2d(m));
+  });
+}
+
+void write_mesh(const SimplexMesh<3>& mesh, const std::string& path) {
+  guarded([&] {
+    imm::dim3::TetMesh m;
+    m.vertices = mesh.vertices;
+    m.tets.assign(mesh.elements.begin(), mesh.elements.end());
+    m.reference = mesh.node;
+    const std::string ext = lower_extension(path);
+    if (ext == ".mesh") return write_or_throw(path, imm::dim3::format_medit_3d(m));
+    if (ext == ".vtu") return write_or_throw(path, imm::dim3::format_vtu(m));
+    if (ext == ".veg") return write_or_throw(path, imm::dim3::format_veg(m));
+    if (ext == ".msh") return write_or_throw(path, imm::dim3::format_gmsh(m));
+    if (ext == ".node" || ext == ".ele") {
+      const imm::dim3::TetGenTexts texts = imm::dim3::format_tetgen(m);
+      const auto [node, ele] = imm::dim3::tetgen_paths(path);
+      write_or_throw(node, texts.node);
+      return write_or_throw(ele, texts.ele);
+    }
+    throw Error(ErrorKind::InvalidInput,
+                path + ": a tet mesh is written as .mesh, .vtu, .veg, .msh or .node/.ele");
+  });
+}
+
+}  // namespace immersion

@@ -1,0 +1,26 @@
+# ctest install_and_consume: installs the build tree into a fresh prefix, then configures, builds
+# and runs tests/consumer against that prefix alone (find_package(immersion)).
+#   cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DIMMERSE=... -P run_consumer_test.cmake
+foreach(var BUILD_DIR SOURCE_DIR WORK_DIR IMMERSE)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "run_consumer_test.cmake: -D${var}=... is required")
+  endif()
+endforeach()
+file(REMOVE_RECURSE ${WORK_DIR})
+set(prefix ${WORK_DIR}/prefix)
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+  endif()
+  message(STATUS "${out}")
+endfunction()
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+if(NOT EXISTS ${prefix}/include/immersion/immersion.h)
+  message(FATAL_ERROR "the header was not installed")
+endif()
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${WORK_DIR}/build
+    -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release)
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+run(${IMMERSE} generate tube-overlap -o ${WORK_DIR}/surface.obj)
+run(${WORK_DIR}/build/consumer ${WORK_DIR}/surface.obj)
