@@ -10,6 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/exit_codes.h"
 #include "core/graph_search.h"
+#include "core/verdicts.h"
 #include "dim2/complex2.h"
 #include "dim2/curves.h"
 #include "dim2/mesh2.h"
@@ -54,47 +55,21 @@ using imm::ImmersionStatus;
 using imm::SearchResult;
 using imm::ValidationReport;
 
-std::string plural(std::size_t n, const std::string& word, const std::string& words = "") {
-  return std::to_string(n) + " " + (n == 1 ? word : (words.empty() ? word + "s" : words));
-}
+/// At most this many defect lines in a message (the program's cap; every defect is in the report).
+constexpr std::size_t kMaxDefectLines = 50;
 
-/// A report's lines without the last line break (what() is one message, not a file).
-std::string lines_of(const ValidationReport& report,
-                     std::size_t max_lines = std::numeric_limits<std::size_t>::max()) {
-  std::string text = report.summary(max_lines);
-  if (!text.empty() && text.back() == '\n') text.pop_back();
-  return text;
-}
-
-/// The program's "invalid input 'PATH': N defects" and every defect.
-[[noreturn]] void throw_defects(const std::string& name, const ValidationReport& report) {
+[[noreturn]] void throw_defects(const std::string& name, const ValidationReport& report,
+                                const std::string& note = "") {
   throw Error(ErrorKind::InvalidInput,
-              "invalid input '" + name + "': " + plural(report.total(), "defect") + "\n" + lines_of(report));
+              imm::invalid_input_message(name, report, kMaxDefectLines) + (note.empty() ? "" : "\nnote: " + note));
 }
 
-/// The program's verdict line for a search without immersions (print_no_immersion).
-[[noreturn]] void throw_no_immersion(const std::string& name, const SearchResult& r,
-                                     const std::string& hint = "") {
-  std::string text = "'" + name + "' ";
-  switch (r.status) {
-    case ImmersionStatus::NotImmersible:
-      text += "is not immersible";
-      if (r.conflict.rule > 0 &&
-          r.conflict.message.find("Rule " + std::to_string(r.conflict.rule)) == std::string::npos)
-        text += " (Rule " + std::to_string(r.conflict.rule) + " cannot be satisfied)";
-      text += ": " + r.conflict.message;
-      break;
-    case ImmersionStatus::SelfConnectingCell:
-      text += "is not simply immersible: " + r.conflict.message;
-      break;
-    case ImmersionStatus::SearchBudgetExhausted:
-      text += "could not be decided: " + r.conflict.message + " (raise --max-states / --time-limit)";
-      break;
-    case ImmersionStatus::Immersible:
-      text += "is immersible";
-      break;
-  }
-  throw Error(ErrorKind::NotImmersible, text + hint);
+[[noreturn]] void throw_no_immersion(const std::string& name, const SearchResult& r, const std::string& hint = "") {
+  throw Error(ErrorKind::NotImmersible, imm::no_immersion_message(name, r) + hint);
+}
+
+[[noreturn]] void throw_inversion(const std::string& name, const std::string& reason) {
+  throw Error(ErrorKind::NotImmersible, imm::not_immersible_message(name, reason));
 }
 
 imm::SearchOptions search_options(const SearchOptions& o) {
@@ -294,8 +269,7 @@ namespace {
 std::shared_ptr<const imm::dim2::Complex2> built_curves(const Curves& curves) {
   imm::dim2::BuildResult built = imm::dim2::build_complex(to_curve_set(curves));
   if (!built.report.ok()) throw_defects(curves.name, built.report);
-  if (built.inversion)
-    throw Error(ErrorKind::NotImmersible, "'" + curves.name + "' is not immersible: " + built.inversion->message);
+  if (built.inversion) throw_inversion(curves.name, built.inversion->message);
   if (!built.complex) throw Error(ErrorKind::Internal, "build_complex returned no complex");
   return built.complex;
 }
@@ -313,8 +287,9 @@ Complex<3> build_complex(const Surface& surface, const BuildOptions& options) {
     o.threads = options.threads;
     imm::dim3::BuildResult3 built = imm::dim3::build_complex3(to_surface(surface), o);
     if (!built.report.ok()) throw_defects(surface.name, built.report);
-    if (built.inversion)
-      throw Error(ErrorKind::NotImmersible, "'" + surface.name + "' is not immersible: " + built.inversion->message);
+    if (!built.folds.ok())
+      throw Error(ErrorKind::NotImmersible, imm::local_folds_message(surface.name, built.folds));
+    if (built.inversion) throw_inversion(surface.name, built.inversion->message);
     if (!built.complex) throw Error(ErrorKind::Internal, "build_complex3 returned no complex");
     return wrap(std::shared_ptr<const imm::dim3::Complex3>(built.complex));
   });
@@ -351,39 +326,13 @@ Immersions<3> find_immersions(const Surface& surface, const SearchOptions& optio
     Immersions<3> out;
     out.notes = im.notes;
     out.helper_boxes = im.helper_boxes.size();
-    if (!im.build.report.ok()) {
-      std::string note;
-      for (const imm::Defect& d : im.build.report.defects) {
-        for (long f : d.facets) {
-          if (f >= static_cast<long>(im.input_triangles) && note.empty()) {
-            note = "\nnote: triangles from id " + std::to_string(im.input_triangles) +
-                   " on belong to the helper boxes added for self-connecting cells; run with "
-                   "--no-helper-boxes to see the verdict without them";
-          }
-        }
-      }
-      try {
-        throw_defects(surface.name, im.build.report);
-      } catch (const Error& e) {
-        throw Error(ErrorKind::InvalidInput, e.what() + note);
-      }
-    }
-    if (im.build.inversion)
-      throw Error(ErrorKind::NotImmersible, "'" + surface.name + "' is not immersible: " + im.build.inversion->message);
+    if (!im.build.folds.ok())
+      throw Error(ErrorKind::NotImmersible, imm::local_folds_message(surface.name, im.build.folds));
+    if (!im.build.report.ok()) throw_defects(surface.name, im.build.report, imm::dim3::helper_box_defect_note(im));
+    if (im.build.inversion) throw_inversion(surface.name, im.build.inversion->message);
     if (!im.build.complex) throw Error(ErrorKind::Internal, "immerse_surface returned no complex");
-    if (im.search.status != ImmersionStatus::Immersible) {
-      // The program's hint (helper_box_hint).
-      const std::size_t boxes = im.helper_boxes.size();
-      std::string hint;
-      if (im.search.status == ImmersionStatus::SelfConnectingCell && !options.helper_boxes)
-        hint = " (helper boxes disabled by --no-helper-boxes)";
-      else if (im.search.status == ImmersionStatus::SelfConnectingCell)
-        hint = " (still self-connecting after " + plural(boxes, "helper box", "helper boxes") + ")";
-      if (boxes > 0)
-        hint += " [cell, patch and arc ids refer to the input with " +
-                plural(boxes, "helper box", "helper boxes") + " added; see the notes above]";
-      throw_no_immersion(surface.name, im.search, hint);
-    }
+    if (im.search.status != ImmersionStatus::Immersible)
+      throw_no_immersion(surface.name, im.search, imm::dim3::helper_box_hint(im, options.helper_boxes));
     out.complex = wrap(std::shared_ptr<const imm::dim3::Complex3>(im.build.complex));
     for (const imm::Immersion& g : im.search.immersions) out.graphs.push_back(graph_of(g));
     out.complete = im.search.complete;
@@ -401,9 +350,7 @@ void check_immersion_index(const Immersions<D>& found, const MeshOptions& option
   if (!found.data_) throw Error(ErrorKind::Internal, "empty immersion::Immersions");
   if (options.immersion >= found.graphs.size()) {
     throw Error(ErrorKind::InvalidInput,
-                "--immersion " + std::to_string(options.immersion) + ": '" + name + "' has only " +
-                    plural(found.graphs.size(), "immersion") + " (numbered from 0)" +
-                    (found.complete ? "" : "; the search stopped early, raise --max-states"));
+                imm::immersion_index_message(options.immersion, name, found.graphs.size(), found.complete));
   }
 }
 
@@ -425,9 +372,7 @@ SimplexMesh<2> mesh_immersion(const Immersions<2>& found, const MeshOptions& opt
     const imm::dim2::MeshResult m = imm::dim2::mesh_immersion(
         *found.complex.data_->complex, found.data_->search.immersions[options.immersion], o);
     if (!m.report.ok()) {
-      throw Error(ErrorKind::InvalidInput, "cannot mesh '" + name + "': " +
-                                               plural(m.report.defects.size(), "defect") + "\n" +
-                                               lines_of(m.report));
+      throw Error(ErrorKind::InvalidInput, imm::cannot_mesh_message(name, m.report, kMaxDefectLines));
     }
     SimplexMesh<2> out;
     out.vertices.reserve(m.mesh.vertices.size());
@@ -455,8 +400,7 @@ SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& opt
     imm::dim3::MeshResult3 m = imm::dim3::mesh_immersion3(
         *im.build.complex, im.search.immersions[options.immersion], o, im.input_vertices, im.input_triangles);
     if (!m.report.ok()) {
-      throw Error(ErrorKind::InvalidInput, "cannot mesh '" + name + "': " + plural(m.report.total(), "defect") +
-                                               "\n" + lines_of(m.report, 20));
+      throw Error(ErrorKind::InvalidInput, imm::cannot_mesh_message(name, m.report, 20));
     }
     SimplexMesh<3> out;
     out.vertices = std::move(m.mesh.vertices);

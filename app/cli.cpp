@@ -291,10 +291,6 @@ std::string extension_of(const std::string& path) {
   return lower(std::filesystem::path(path).extension().string());
 }
 
-std::string plural(std::size_t n, const std::string& word, const std::string& words) {
-  return std::to_string(n) + " " + (n == 1 ? word : words.empty() ? word + "s" : words);
-}
-
 std::string format_ms(double seconds) {
   const double ms = seconds * 1e3;
   char buffer[32];
@@ -333,8 +329,7 @@ std::string b_patch_list(std::span<const BPatch> b_patches) {
 constexpr std::size_t kMaxDefectLines = 50;
 
 void print_defects(Session& s, const std::string& path, const ValidationReport& report) {
-  s.err() << "immerse: invalid input '" << path << "': " << plural(report.total(), "defect") << '\n'
-          << report.summary(kMaxDefectLines);
+  s.err() << "immerse: " << invalid_input_message(path, report, kMaxDefectLines) << '\n';
   s.set_counts("invalid input (" + plural(report.total(), "defect") + ")");
 }
 
@@ -355,27 +350,7 @@ std::string immersion_counts(const SearchResult& r) {
 }
 
 void print_no_immersion(Session& s, const std::string& path, const SearchResult& r, const std::string& hint) {
-  std::ostringstream os;
-  os << "immerse: '" << path << "' ";
-  switch (r.status) {
-    case ImmersionStatus::NotImmersible:
-      os << "is not immersible";
-      if (r.conflict.rule > 0 && r.conflict.message.find("Rule " + std::to_string(r.conflict.rule)) == std::string::npos) {
-        os << " (Rule " << r.conflict.rule << " cannot be satisfied)";
-      }
-      os << ": " << r.conflict.message;
-      break;
-    case ImmersionStatus::SelfConnectingCell:
-      // The search's message already says "no simple immersion exists" and names the cell.
-      os << "is not simply immersible: " << r.conflict.message;
-      break;
-    case ImmersionStatus::SearchBudgetExhausted:
-      os << "could not be decided: " << r.conflict.message
-         << " (raise --max-states / --time-limit)";
-      break;
-    case ImmersionStatus::Immersible: os << "is immersible"; break;
-  }
-  s.err() << os.str() << hint << '\n';
+  s.err() << "immerse: " << no_immersion_message(path, r) << hint << '\n';
 }
 
 void print_immersion_list(Session& s, const std::string& description, const SearchResult& r,
@@ -921,8 +896,7 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
   const dim2::MeshResult m =
       s.timed("mesh", [&] { return dim2::mesh_immersion(*p.complex, r.immersions[k], mesh_options); });
   if (!m.report.ok()) {
-    s.err() << "immerse: cannot mesh '" << p.path << "': " << plural(m.report.defects.size(), "defect") << '\n'
-            << m.report.summary(kMaxDefectLines);
+    s.err() << "immerse: " << cannot_mesh_message(p.path, m.report, kMaxDefectLines) << '\n';
     s.set_counts("meshing failed (" + plural(m.report.defects.size(), "defect") + ")");
     if (auto json_path = cl.value("--json")) {
       Json j = Json::object();
@@ -1017,9 +991,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
   if (r.immersions.size() <= k) {
     s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
     return usage_error(env, "mesh",
-                       "--immersion " + std::to_string(k) + ": '" + p.path + "' has only " +
-                           plural(r.immersions.size(), "immersion") + " (numbered from 0)" +
-                           (r.complete ? "" : "; the search stopped early, raise --max-states"));
+                       immersion_index_message(k, p.path, r.immersions.size(), r.complete));
   }
   const int code = mesh_and_write(s, p, r, k, options, cl);
   print_written(s);

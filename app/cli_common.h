@@ -32,6 +32,7 @@
 #include "core/diagnostics.h"
 #include "core/perturbation.h"
 #include "core/graph_search.h"
+#include "core/verdicts.h"
 #include "dim3/mesh3.h"
 
 #include <nlohmann/json.hpp>
@@ -58,8 +59,6 @@ inline constexpr std::size_t kMaxTableRows = 40;
 std::string lower(std::string s);
 /// The extension with its dot, lower case (".obj").
 std::string extension_of(const std::string& path);
-/// "1 cell", "3 cells", "2 patches" (with `words` as the plural).
-std::string plural(std::size_t n, const std::string& word, const std::string& words = "");
 /// "0.52 ms", "12.3 ms", "1234 ms".
 std::string format_ms(double seconds);
 
@@ -405,7 +404,7 @@ Json early_json(const P& p, const Session& s) {
 
 template <class P>
 void print_inversion(Session& s, const P& p) {
-  s.err() << "immerse: '" << p.path << "' is not immersible: " << p.inversion->message << '\n';
+  s.err() << "immerse: " << not_immersible_message(p.path, p.inversion->message) << '\n';
 }
 
 /// For the commands that need a valid, non-inverted complex: `prepare()` reads, validates and

@@ -103,9 +103,7 @@ Json inversion_json(const PreparedSurface& p) {
 
 /// A local fold: two triangles of one vertex star cross beyond the vertex (DESIGN §5).
 void print_folds(Session& s, const PreparedSurface& p) {
-  s.err() << "immerse: '" << p.path << "' is not immersible: " << plural(p.folds.total(), "local fold")
-          << " (no perturbation removes a fold, and no immersed solid has a folded boundary)\n"
-          << p.folds.summary(std::numeric_limits<std::size_t>::max());
+  s.err() << "immerse: " << local_folds_message(p.path, p.folds) << '\n';
   s.set_counts("local fold, not immersible");
 }
 
@@ -242,15 +240,6 @@ std::string box_text(const Box3& b) {
 }
 
 /// The defects of a rebuild with helper boxes may name box triangles: say which ids those are.
-bool names_helper_triangles(const ValidationReport& report, std::size_t input_triangles) {
-  for (const Defect& d : report.defects) {
-    for (long f : d.facets) {
-      if (f >= static_cast<long>(input_triangles)) return true;
-    }
-  }
-  return false;
-}
-
 }  // namespace
 
 int check_surface(Session& s, const std::string& path) {
@@ -337,11 +326,8 @@ int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, con
   if (!im.build.report.ok()) {
     p.report = im.build.report;
     print_defects(s, p.path, p.report);
-    if (names_helper_triangles(p.report, im.input_triangles)) {
-      s.err() << "immerse: note: triangles from id " << im.input_triangles
-              << " on belong to the helper boxes added for self-connecting cells; run with "
-                 "--no-helper-boxes to see the verdict without them\n";
-    }
+    if (const std::string note = dim3::helper_box_defect_note(im); !note.empty())
+      s.err() << "immerse: note: " << note << '\n';
     return fail_early(kExitInvalidInput);
   }
   p.inversion = im.build.inversion;
@@ -358,21 +344,6 @@ int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, con
   return kExitOk;
 }
 
-/// The hint after "not immersible" when helper boxes were involved.
-std::string helper_box_hint(const dim3::Immersed3& im, bool boxes_allowed) {
-  const std::size_t boxes = im.helper_boxes.size();
-  std::string hint;
-  if (im.search.status == ImmersionStatus::SelfConnectingCell && !boxes_allowed) {
-    hint = " (helper boxes disabled by --no-helper-boxes)";
-  } else if (im.search.status == ImmersionStatus::SelfConnectingCell) {
-    hint = " (still self-connecting after " + plural(boxes, "helper box", "helper boxes") + ")";
-  }
-  if (boxes > 0) {
-    hint += " [cell, patch and arc ids refer to the input with " + plural(boxes, "helper box", "helper boxes") +
-            " added; see the notes above]";
-  }
-  return hint;
-}
 
 }  // namespace
 
@@ -390,7 +361,7 @@ int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& r
   s.set_counts(complex_counts(complex) + ", " + immersion_counts(r) +
                (boxes > 0 ? ", " + plural(boxes, "helper box", "helper boxes") : ""));
   if (r.status != ImmersionStatus::Immersible) {
-    print_no_immersion(s, p.path, r, helper_box_hint(im, boxes_allowed));
+    print_no_immersion(s, p.path, r, dim3::helper_box_hint(im, boxes_allowed));
   } else {
     std::string description = describe_input(p) + (p.complex->reversed ? " (reversed)" : "");
     if (boxes > 0) description += " with " + plural(boxes, "helper box", "helper boxes");
@@ -503,7 +474,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   const CellComplex<3>& complex = p.complex->complex;
   if (r.status != ImmersionStatus::Immersible) {
     s.set_counts(complex_counts(complex) + ", " + immersion_counts(r));
-    print_no_immersion(s, p.path, r, helper_box_hint(im, boxes_allowed));
+    print_no_immersion(s, p.path, r, dim3::helper_box_hint(im, boxes_allowed));
     if (json_path && !s.write(*json_path, search_json(input_json(p), r, s).dump(2) + "\n", "report")) return kExitInternalError;
     print_written(s);
     return kExitNotImmersible;
@@ -511,9 +482,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   if (r.immersions.size() <= k) {
     s.set_counts(complex_counts(complex) + ", " + immersion_counts(r));
     return usage_error(s.env(), "mesh",
-                       "--immersion " + std::to_string(k) + ": '" + p.path + "' has only " +
-                           plural(r.immersions.size(), "immersion") + " (numbered from 0)" +
-                           (r.complete ? "" : "; the search stopped early, raise --max-states"));
+                       immersion_index_message(k, p.path, r.immersions.size(), r.complete));
   }
   dim3::MeshOptions3 mesh_options = options;
   if (s.show_progress()) mesh_options.progress = [&s](const std::string& m) { s.err() << "immerse: mesh: " << m << '\n'; };
@@ -536,8 +505,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
       return dim3::mesh_immersion3(*p.complex, r.immersions[i], mesh_options, im.input_vertices, im.input_triangles);
     });
     if (!m.report.ok()) {
-      s.err() << "immerse: cannot mesh '" << p.path << "': " << plural(m.report.total(), "defect") << '\n'
-              << m.report.summary();
+      s.err() << "immerse: " << cannot_mesh_message(p.path, m.report, 20) << '\n';
       s.set_counts("meshing failed (" + plural(m.report.total(), "defect") + ")");
       if (json_path) {
         Json j = Json::object();

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cstdio>
 
+#include "core/verdicts.h"
+
 namespace imm::dim3 {
 namespace {
 
@@ -124,6 +126,34 @@ Immersed3 immerse_surface(const Surface& surface, const ImmerseOptions3& options
     // An inside-out input is flipped as a whole by build_complex3: flip the box with it.
     current = merge(current, reversed_input ? inside_out(box_surface(*pending)) : box_surface(*pending));
   }
+}
+
+std::string helper_box_hint(const Immersed3& im, bool boxes_allowed) {
+  const std::size_t boxes = im.helper_boxes.size();
+  std::string hint;
+  if (im.search.status == ImmersionStatus::SelfConnectingCell && !boxes_allowed) {
+    hint = " (helper boxes disabled by --no-helper-boxes)";
+  } else if (im.search.status == ImmersionStatus::SelfConnectingCell) {
+    hint = " (still self-connecting after " + plural(boxes, "helper box", "helper boxes") + ")";
+  }
+  if (boxes > 0) {
+    hint += " [cell, patch and arc ids refer to the input with " + plural(boxes, "helper box", "helper boxes") +
+            " added; see the notes above]";
+  }
+  return hint;
+}
+
+std::string helper_box_defect_note(const Immersed3& im) {
+  for (const Defect& d : im.build.report.defects) {
+    for (long f : d.facets) {
+      if (f >= static_cast<long>(im.input_triangles)) {
+        return "triangles from id " + std::to_string(im.input_triangles) +
+               " on belong to the helper boxes added for self-connecting cells; run with "
+               "--no-helper-boxes to see the verdict without them";
+      }
+    }
+  }
+  return "";
 }
 
 }  // namespace imm::dim3

@@ -45,6 +45,15 @@ struct Immersed3 {
 /// search gives a verdict other than SelfConnectingCell (or the box budget is spent).
 Immersed3 immerse_surface(const Surface& surface, const ImmerseOptions3& options = {});
 
+/// What a verdict should add when helper boxes were involved: "" or, e.g., " (still
+/// self-connecting after 2 helper boxes) [cell, patch and arc ids refer to the input with 2 helper
+/// boxes added; see the notes above]". `boxes_allowed`: false when max_boxes was 0.
+std::string helper_box_hint(const Immersed3& im, bool boxes_allowed);
+
+/// "" or the note that defects name helper-box triangles ("triangles from id N on belong to the
+/// helper boxes ..."), for a failed build.
+std::string helper_box_defect_note(const Immersed3& im);
+
 /// The closed, outward-oriented 12-triangle surface of a box.
 Surface box_surface(const Box3& box);
 

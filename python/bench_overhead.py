@@ -22,7 +22,7 @@ import sys
 sys.path.insert(0, sys.argv[1])
 import immersion
 surface = immersion.read_surface(sys.argv[2])
-found = immersion.find_immersions(surface)
+found = immersion.find_immersions(surface, threads=int(sys.argv[5]))
 mesh = immersion.mesh_immersion(found, background=sys.argv[3], threads=int(sys.argv[5]))
 mesh.write(sys.argv[4])
 element, weights = mesh.embedding_element, mesh.embedding_weights

@@ -1,0 +1,39 @@
+// The verdict messages every front end gives (the `immerse` program prefixes "immerse: ", the C++
+// API and the Python module carry them in their exceptions): one wording, written once. Each
+// message names the input as 'NAME' and has no trailing line break.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "core/diagnostics.h"
+#include "core/graph_search.h"
+
+namespace imm {
+
+/// "1 patch", "2 patches".
+std::string plural(std::size_t n, const std::string& word, const std::string& words = "");
+
+/// "invalid input 'NAME': N defects" and one line per defect (at most `max_lines`, then
+/// "... and N more"). Exit code 2.
+std::string invalid_input_message(const std::string& name, const ValidationReport& report, std::size_t max_lines);
+
+/// "cannot mesh 'NAME': N defects" and the defects (a background that does not cover the input,
+/// a non-generic contact with the background). Exit code 2.
+std::string cannot_mesh_message(const std::string& name, const ValidationReport& report, std::size_t max_lines);
+
+/// "'NAME' is not immersible: REASON" (an inverted region). Exit code 3.
+std::string not_immersible_message(const std::string& name, const std::string& reason);
+
+/// "'NAME' is not immersible: N local folds (no perturbation removes a fold, ...)" and every
+/// fold. Exit code 3.
+std::string local_folds_message(const std::string& name, const ValidationReport& folds);
+
+/// The verdict of a search without immersions: not immersible (naming the rule and what is in
+/// conflict), not simply immersible (a self-connecting cell), or undecided (budget). Exit code 3.
+std::string no_immersion_message(const std::string& name, const SearchResult& r);
+
+/// "--immersion K: 'NAME' has only N immersions (numbered from 0)[; the search stopped early ...]".
+std::string immersion_index_message(std::size_t k, const std::string& name, std::size_t found, bool complete);
+
+}  // namespace imm
