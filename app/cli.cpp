@@ -159,6 +159,9 @@ std::vector<CommandSpec> make_command_specs() {
       {"--cut-mesh", ValueKind::Text, "OUT.obj",
        "(3D) the surface cut along its self-intersection curves, one OBJ group per patch, for viewers"},
   };
+  cells.options.push_back({"--repair-folds", ValueKind::Real, "MAX",
+       "(3D) local folds (a vertex whose star crosses itself) are repaired instead of refused (exit 3): "
+       "fold vertices move toward their ring's centroid by at most MAX each, every move is reported"});
   cells.options.push_back({"--strict", ValueKind::Flag, "",
        "refuse exact contacts (a vertex on a segment or triangle, touching, coplanar or collinear overlaps) with "
        "exit 2 instead of resolving them by a tiny perturbation"});
@@ -184,6 +187,9 @@ std::vector<CommandSpec> make_command_specs() {
       {"--svg", ValueKind::Text, "DIR", "(2D) one drawing per immersion, DIR/immersion_K.svg (K = 0, 1, ...)"});
   immersions.options.push_back(
       {"--no-helper-boxes", ValueKind::Flag, "", "(3D) no helper boxes: a possibly self-connecting cell is the verdict"});
+  immersions.options.push_back({"--repair-folds", ValueKind::Real, "MAX",
+       "(3D) local folds (a vertex whose star crosses itself) are repaired instead of refused (exit 3): "
+       "fold vertices move toward their ring's centroid by at most MAX each, every move is reported"});
   immersions.options.push_back({"--strict", ValueKind::Flag, "",
        "refuse exact contacts (a vertex on a segment or triangle, touching, coplanar or collinear overlaps) with "
        "exit 2 instead of resolving them by a tiny perturbation"});
@@ -236,6 +242,9 @@ std::vector<CommandSpec> make_command_specs() {
       {"--time-limit", ValueKind::Real, "S", "search budget in seconds (as for 'immerse immersions')"},
       {"--max-output", ValueKind::Integer, "BYTES", "output budget: bytes in all files written (default 4 GiB)", 1},
   };
+  mesh.options.push_back({"--repair-folds", ValueKind::Real, "MAX",
+       "(3D) local folds (a vertex whose star crosses itself) are repaired instead of refused (exit 3): "
+       "fold vertices move toward their ring's centroid by at most MAX each, every move is reported"});
   mesh.options.push_back({"--strict", ValueKind::Flag, "",
        "refuse exact contacts (a vertex on a segment or triangle, touching, coplanar or collinear overlaps) with "
        "exit 2 instead of resolving them by a tiny perturbation"});
@@ -1126,6 +1135,7 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   CommandLine cl;
   if (auto code = parse_command(env, *spec, std::vector<std::string>(args.begin() + 1, args.end()), cl)) return *code;
   s.set_strict(cl.has("--strict"));
+  s.set_repair_folds(cl.real("--repair-folds"));
   if (command == "check") return command_check(s, cl);
   if (command == "cells") return command_cells(s, cl);
   if (command == "immersions") return command_immersions(s, cl);

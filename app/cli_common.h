@@ -138,6 +138,9 @@ class Session {
   /// --strict: refuse exact contacts (exit 2) instead of resolving them by a perturbation.
   void set_strict(bool strict) { strict_ = strict; }
   [[nodiscard]] bool strict() const { return strict_; }
+  /// --repair-folds MAX (3D): move local-fold vertices by at most MAX instead of exit 3.
+  void set_repair_folds(std::optional<double> max) { repair_folds_ = max; }
+  [[nodiscard]] std::optional<double> repair_folds() const { return repair_folds_; }
 
   /// Writes `content` to `path` atomically (creating parent directories), records it for the
   /// listing. @return false (after printing why) on failure.
@@ -221,6 +224,7 @@ class Session {
   std::string counts_;
   bool summary_ = false;
   bool strict_ = false;
+  std::optional<double> repair_folds_;
   std::vector<std::pair<std::string, std::string>> written_;
 };
 

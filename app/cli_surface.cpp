@@ -107,6 +107,10 @@ void print_folds(Session& s, const PreparedSurface& p) {
   s.set_counts("local fold, not immersible");
 }
 
+void print_repair_note(Session& s, const dim3::FoldRepair& repair) {
+  s.err() << "immerse: note: " << dim3::fold_repair_note(repair, s.repair_folds().value_or(0.0)) << '\n';
+}
+
 void print_reversed_note(Session& s, const PreparedSurface& p) {
   s.err() << "immerse: note: every winding number of '" << p.path
           << "' is <= 0 (inside-out surface): the input was reversed; winding numbers and patch "
@@ -134,8 +138,10 @@ int prepare_surface(Session& s, PreparedSurface& p, bool exact_volumes) {
   options.exact_volumes = exact_volumes;
   options.progress = s.progress("");  // the library's messages name their stages
   options.strict = s.strict();
+  options.repair_folds = s.repair_folds();
   dim3::BuildResult3 built =
       s.timed("complex", [&] { return dim3::build_complex3(p.surface, options); });
+  if (built.repair) print_repair_note(s, *built.repair);
   p.contacts = std::move(built.contacts);
   if (p.contacts) print_contacts_note(s, p.path, contacts_view(*p.contacts), p.list_contacts);
   if (!built.folds.ok()) {
@@ -311,9 +317,11 @@ int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, con
   options.build.progress = s.progress("");  // the library's messages name their stages
   options.search = search_options(s, request);
   options.build.strict = s.strict();
+  options.build.repair_folds = s.repair_folds();
   if (cl.has("--no-helper-boxes")) options.max_boxes = 0;
   im = dim3::immerse_surface(p.surface, options);
   s.add_time("complex", im.build_seconds);
+  if (im.repair) print_repair_note(s, *im.repair);
   p.contacts = im.contacts;
   if (p.contacts) print_contacts_note(s, p.path, contacts_view(*p.contacts), false);
   for (const std::string& note : im.notes) s.err() << "immerse: note: " << note << '\n';

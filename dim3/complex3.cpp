@@ -761,7 +761,9 @@ bool only_coincident_vertices(const ValidationReport& report) {
 
 }  // namespace
 
-BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options) {
+namespace {
+
+BuildResult3 build_once(const Surface& surface, const BuildOptions3& options) {
   const auto start = std::chrono::steady_clock::now();
   BuildResult3 result;
   const auto finish = [&]() -> BuildResult3 {
@@ -793,7 +795,7 @@ BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options
       if (c.first != DefectKind::LocalFold) contacts.counts.push_back(c);
     if (!result.folds.ok() || options.strict) {
       if (options.strict && result.folds.ok()) result.report = std::move(contacts.found);
-      else result.contacts = std::move(contacts);
+      else if (!contacts.counts.empty()) result.contacts = std::move(contacts);  // folds alone are no contacts
       return finish();
     }
     // Resolve: the first perturbation under which every exact decision is generic.
@@ -864,6 +866,24 @@ BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options
     break;
   }
   return finish();
+}
+
+}  // namespace
+
+BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options) {
+  const auto start = std::chrono::steady_clock::now();
+  BuildResult3 result = build_once(surface, options);
+  if (result.folds.ok() || !options.repair_folds) return result;
+  if (options.progress) options.progress("local folds: repairing (--repair-folds)");
+  FoldRepair repair = repair_folds(surface, *options.repair_folds, options.threads);
+  if (!repair.ok) {
+    result.repair = std::move(repair);
+    return result;
+  }
+  BuildResult3 repaired = build_once(repair.surface, options);
+  repaired.repair = std::move(repair);
+  repaired.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return repaired;
 }
 
 std::string format_cut_mesh_obj(const Complex3& c3) {

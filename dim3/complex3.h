@@ -28,6 +28,7 @@
 
 #include "core/cell_complex.h"
 #include "core/perturbation.h"
+#include "dim3/repair_folds.h"
 #include "dim3/surface.h"
 
 namespace imm::dim3 {
@@ -112,6 +113,10 @@ struct BuildOptions3 {
   /// perturbation (DESIGN §5). For users who want to fix their mesh, and for steps that place
   /// their own geometry (helper boxes move instead).
   bool strict = false;
+  /// `--repair-folds MAX`: when the input has local folds, move fold vertices by at most MAX
+  /// (model units) toward their ring's centroid until every star is embedded (dim3/repair_folds.h),
+  /// then build from the repaired surface. Unset: local folds are a verdict (exit 3).
+  std::optional<double> repair_folds;
 };
 
 /// Exact contacts of the input and how they were resolved (DESIGN §5): the input was replaced by
@@ -136,6 +141,10 @@ struct BuildResult3 {
   /// Set when the input had exact contacts (resolved or not; see Contacts3::perturbation).
   std::optional<Contacts3> contacts;
   std::shared_ptr<Complex3> complex;     ///< set when the complex was built
+  /// Set when BuildOptions3::repair_folds was given and the input had local folds: the vertices
+  /// moved (ok), or why the folds could not be repaired (!ok; `folds` then holds the verdict).
+  /// When ok, everything above describes the repaired surface (FoldRepair::surface).
+  std::optional<FoldRepair> repair;
   double seconds = 0.0;
 };
 

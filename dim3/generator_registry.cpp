@@ -90,6 +90,11 @@ GeneratorRegistry<Surface> make_registry() {
          {{"n", "ring sides", 24, 8, 2000}},
          "inversion (exit 3)"},
         [](P p) { return poke_through(as_int(p[0])); });
+  r.add({"folded-bipyramid",
+         "a bipyramid whose top vertex is pulled across its own ring: a local fold (issue 16)",
+         {{"percent", "how far the top vertex is pulled (100: the fold of the tests)", 100, 0, 200}},
+         "local fold at vertex 6 (exit 3); --repair-folds repairs it"},
+        [](P p) { return folded_bipyramid(as_int(p[0])); });
   r.add({"comb",
          "comb whose teeth are 1/64 apart (nearly touching, no intersection)",
          {{"teeth", "teeth", 12, 1, 100000}},

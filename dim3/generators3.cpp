@@ -230,6 +230,22 @@ std::vector<Capsule> tree_capsules(int branches, std::uint64_t seed) {
 
 // ---- embedded controls -------------------------------------------------------------------------
 
+Surface folded_bipyramid(int percent) {
+  IMM_ASSERT(percent >= 0, "folded_bipyramid needs percent >= 0");
+  Surface s;
+  const double ring[6][3] = {{4, 0, 0.5}, {2, 3, -0.5}, {-2, 3, 0.5}, {-4, 0, -0.5}, {-2, -3, 0.5}, {2, -3, -0.5}};
+  for (const auto& r : ring) s.vertices.push_back({r[0], r[1], r[2]});
+  const double t = percent / 100.0;
+  s.vertices.push_back({-5.5 * t, -3 * t, 4 - 3 * t});  // the top vertex: (0, 0, 4) to (-5.5, -3, 1)
+  s.vertices.push_back({0, 0, -4});                      // the bottom vertex
+  for (std::uint32_t k = 0; k < 6; ++k) {
+    s.triangles.push_back({k, (k + 1) % 6, 6});
+    s.triangles.push_back({(k + 1) % 6, k, 7});
+  }
+  for (std::uint32_t t = 0; t < s.triangles.size(); ++t) s.source_face.push_back(t);
+  return s;
+}
+
 Surface sphere(int n) {
   IMM_ASSERT(n >= 3, "sphere needs n >= 3");
   return moved(unit_sphere(n), odd_motion(0));

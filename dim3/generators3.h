@@ -65,6 +65,12 @@ const GeneratorRegistry<Surface>& surface_registry();
 /// 4 n (n - 1) triangles. 2 regions, 1 cell, 1 patch, 0 arcs, 1 immersion.
 Surface sphere(int n);
 
+/// A local fold (issue 16): a bipyramid over a zig-zag hexagon (ring vertices 0-5, apexes 6 on
+/// top and 7 below, 12 triangles) whose top vertex is pulled `percent` % of the way from above
+/// the ring's centre to beyond ring vertices 3 and 4; from about 70 % on the triangles (3, 4, 6)
+/// and (5, 0, 6) of its star cross beyond it (a local fold at vertex 6, exit 3).
+Surface folded_bipyramid(int percent);
+
 /// A torus (major radius 1, minor 0.4), `n` >= 6 segments around the axis and n / 2 around
 /// the tube: 2 n (n / 2) triangles. 2 regions, 1 cell, 1 patch, 0 arcs, 1 immersion.
 Surface torus(int n);

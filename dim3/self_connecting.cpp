@@ -78,6 +78,13 @@ Immersed3 immerse_surface(const Surface& surface, const ImmerseOptions3& options
     auto start = std::chrono::steady_clock::now();
     BuildResult3 build = build_complex3(current, build_options);
     out.build_seconds += seconds_since(start);
+    if (!out.repair && build.repair) {
+      // The user's local folds, repaired (or not) on the first build: later builds start from the
+      // repaired surface.
+      out.repair = build.repair;
+      if (build.repair->ok) current = build.repair->surface;
+    }
+    build_options.repair_folds.reset();
     if (!out.contacts && build.contacts) {
       // The user's contacts, resolved (or not) on the first build. Later builds start from the
       // perturbed surface and are strict: a helper box that touches it is moved, not perturbed.

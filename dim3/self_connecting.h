@@ -37,6 +37,9 @@ struct Immersed3 {
   /// The user's exact contacts and their resolution (first build); `surface` then starts from
   /// the perturbed input.
   std::optional<Contacts3> contacts;
+  /// The user's local folds and their repair (--repair-folds), from the first build; when ok,
+  /// `surface` starts from the repaired input.
+  std::optional<FoldRepair> repair;
   double build_seconds = 0.0;         ///< total over all rebuilds
   double search_seconds = 0.0;        ///< total over all searches
 };

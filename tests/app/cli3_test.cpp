@@ -743,3 +743,36 @@ TEST_F(Cli3RealTest, DoubleLoopWithCubeIsResolvedAndMeshed) {
 }
 
 }  // namespace
+
+namespace {
+
+// --repair-folds (issue 16): a generated local fold is exit 3 naming the vertex; with a budget
+// it is repaired, every move reported, and meshed (immersions and mesh go through the helper-box
+// loop, cells through the plain build); a budget too small keeps the verdict and says why.
+TEST_F(Cli3Test, LocalFoldsAreRepairedOnlyWhenAskedAndEveryMoveIsReported) {
+  ASSERT_EQ(run("generate folded-bipyramid 100 -o fold.obj").code, 0);
+  const Outcome refused = run("immersions fold.obj");
+  EXPECT_EQ(refused.code, 3) << refused.output;
+  EXPECT_NE(refused.output.find("local-fold (intersect): vertex 6 "), std::string::npos) << refused.output;
+  EXPECT_EQ(refused.output.find("exact contacts"), std::string::npos) << "folds alone are no contacts\n" << refused.output;
+  for (const char* command : {"cells fold.obj", "immersions fold.obj", "mesh fold.obj -o fold.vtu --embedding fold.emb"}) {
+    SCOPED_TRACE(command);
+    const Outcome repaired = run(std::string(command) + " --repair-folds 3");
+    EXPECT_EQ(repaired.code, 0) << repaired.output;
+    EXPECT_NE(repaired.output.find("immerse: note: local folds repaired (--repair-folds 3): "), std::string::npos)
+        << repaired.output;
+    EXPECT_NE(repaired.output.find("vertex 6 (-5.5, -3, 1) -> ("), std::string::npos) << repaired.output;
+    EXPECT_NE(repaired.output.find("1 cell, 1 patch, 0 arcs"), std::string::npos) << repaired.output;
+  }
+  EXPECT_TRUE(exists("fold.vtu"));
+  EXPECT_TRUE(exists("fold.emb"));
+  const Outcome too_small = run("mesh fold.obj --repair-folds 0.01 -o small.vtu");
+  EXPECT_EQ(too_small.code, 3) << too_small.output;
+  EXPECT_NE(too_small.output.find("--repair-folds: "), std::string::npos) << too_small.output;
+  EXPECT_NE(too_small.output.find("not repaired within --repair-folds 0.01: vertex"), std::string::npos)
+      << too_small.output;
+  EXPECT_FALSE(exists("small.vtu"));
+  EXPECT_EQ(run("mesh fold.obj --repair-folds -1 -o x.vtu").code, 64);
+}
+
+}  // namespace
