@@ -212,7 +212,19 @@ std::vector<CommandSpec> make_command_specs() {
       {"--background", ValueKind::Text, "FILE",
        "a background mesh instead of the grid: 2D a Medit .mesh (Dimension 2); 3D Vega .veg, Medit "
        ".mesh, TetGen .node/.ele, Gmsh .msh 4.1 (it must cover the input and meet it generically, else exit 2)"},
-      {"--conforming", ValueKind::Flag, "", "(2D) insert the input as constraints (no triangle is cut by the input)"},
+      {"--conforming", ValueKind::Flag, "",
+       "insert the input as constraints: 2D, no triangle is cut by the curve; 3D, TetGen's constrained Delaunay "
+       "tets whose boundary faces are exactly the input triangles cut along the intersection curves (no "
+       "background, no virtual tets; each input vertex is an output vertex)"},
+      {"--edge-length", ValueKind::Real, "H",
+       "(3D --conforming) target edge length inside the cells (TetGen volume bound of the regular tet of edge H; "
+       "default: longest side of the input's box / resolution)"},
+      {"--radius-edge", ValueKind::Real, "R",
+       "(3D --conforming) radius-edge ratio bound of TetGen's quality refinement, >= 1 (default 2; 0 = no "
+       "quality refinement)"},
+      {"--min-dihedral", ValueKind::Real, "DEG",
+       "(3D --conforming) minimum dihedral angle TetGen aims for, 0..30 degrees (default 0 = none; slivers at the "
+       "preserved surface may stay, the minimum is reported)"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (0-based, in the search's order; default 0)", 0,
        1'000'000},
       {"--all", ValueKind::Flag, "", "(3D) mesh every immersion: OUT_K.ext and OUT_K.emb for immersion K"},
@@ -996,9 +1008,28 @@ int command_mesh(Session& s, const CommandLine& cl) {
     }
     if (auto n = cl.integer("--threads")) options3.threads = static_cast<unsigned>(*n);
     if (all && cl.has("--immersion")) return usage_error(env, "mesh", "--all and --immersion exclude each other");
-    return mesh_surface(s, cl, request, options3, k, all);
+    if (!options.conforming) return mesh_surface(s, cl, request, options3, k, all);
+    // --conforming: TetGen's tets; the edge length defaults to the grid's cube side.
+    dim3::ConformingOptions3 conforming;
+    conforming.edge_length = 0.0;
+    if (auto h = cl.real("--edge-length")) {
+      if (!(*h > 0 && std::isfinite(*h))) return usage_error(env, "mesh", "--edge-length expects a positive number");
+      conforming.edge_length = *h;
+    }
+    if (auto r = cl.real("--radius-edge")) {
+      if (!(*r == 0.0 || (*r >= 1.0 && std::isfinite(*r))))
+        return usage_error(env, "mesh", "--radius-edge expects 0 (no quality refinement) or a number >= 1");
+      conforming.radius_edge = *r;
+    }
+    if (auto a = cl.real("--min-dihedral")) {
+      if (!(*a >= 0.0 && *a <= 30.0)) return usage_error(env, "mesh", "--min-dihedral expects degrees in 0..30");
+      if (*a > 0 && conforming.radius_edge == 0.0)
+        return usage_error(env, "mesh", "--min-dihedral needs quality refinement (--radius-edge is 0)");
+      conforming.min_dihedral = *a;
+    }
+    return mesh_surface(s, cl, request, options3, k, all, &conforming);
   }
-  for (const char* option : {"--all", "--threads", "--no-helper-boxes"})
+  for (const char* option : {"--all", "--threads", "--no-helper-boxes", "--edge-length", "--radius-edge", "--min-dihedral"})
     if (cl.has(option)) return usage_error(env, "mesh", std::string(option) + " is for 3D surfaces only");
 
   s.enable_summary();

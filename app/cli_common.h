@@ -32,6 +32,7 @@
 #include "core/diagnostics.h"
 #include "core/perturbation.h"
 #include "core/graph_search.h"
+#include "dim3/conforming_mesh3.h"
 #include "dim3/mesh3.h"
 
 #include <nlohmann/json.hpp>
@@ -495,9 +496,10 @@ int cells_surface(Session& s, const CommandLine& cl);
 /// `immerse immersions IN [...]` on a surface (helper boxes for self-connecting cells).
 int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& request);
 /// `immerse mesh IN [...]` on a surface: immersion k (or every one when `all`), written as
-/// .mesh/.vtu/.veg, .emb and JSON.
+/// .mesh/.vtu/.veg, .emb and JSON. With `conforming` set (`--conforming`), the conforming
+/// mesher (dim3/conforming_mesh3.h) instead of the background mesher.
 int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions3& options,
-                 std::size_t k, bool all);
+                 std::size_t k, bool all, const dim3::ConformingOptions3* conforming = nullptr);
 
 /// One line of `immerse generate --list`.
 struct GeneratorEntry {
