@@ -220,11 +220,10 @@ std::vector<CommandSpec> make_command_specs() {
        "(3D --conforming) target edge length inside the cells (TetGen volume bound of the regular tet of edge H; "
        "default: longest side of the input's box / resolution)"},
       {"--radius-edge", ValueKind::Real, "R",
-       "(3D --conforming) radius-edge ratio bound of TetGen's quality refinement, >= 1 (default 2; 0 = no "
-       "quality refinement)"},
+       "(3D --conforming) radius-edge ratio bound of TetGen's quality refinement, >= 1 (default 2)"},
       {"--min-dihedral", ValueKind::Real, "DEG",
-       "(3D --conforming) minimum dihedral angle TetGen aims for, 0..30 degrees (default 0 = none; slivers at the "
-       "preserved surface may stay, the minimum is reported)"},
+       "(3D --conforming) minimum dihedral angle TetGen aims for, up to 30 degrees (default none; slivers on the "
+       "preserved surface may stay: the JSON counts them)"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (0-based, in the search's order; default 0)", 0,
        1'000'000},
       {"--all", ValueKind::Flag, "", "(3D) mesh every immersion: OUT_K.ext and OUT_K.emb for immersion K"},
@@ -1017,14 +1016,11 @@ int command_mesh(Session& s, const CommandLine& cl) {
       conforming.edge_length = *h;
     }
     if (auto r = cl.real("--radius-edge")) {
-      if (!(*r == 0.0 || (*r >= 1.0 && std::isfinite(*r))))
-        return usage_error(env, "mesh", "--radius-edge expects 0 (no quality refinement) or a number >= 1");
+      if (!(*r >= 1.0 && std::isfinite(*r))) return usage_error(env, "mesh", "--radius-edge expects a number >= 1");
       conforming.radius_edge = *r;
     }
     if (auto a = cl.real("--min-dihedral")) {
-      if (!(*a >= 0.0 && *a <= 30.0)) return usage_error(env, "mesh", "--min-dihedral expects degrees in 0..30");
-      if (*a > 0 && conforming.radius_edge == 0.0)
-        return usage_error(env, "mesh", "--min-dihedral needs quality refinement (--radius-edge is 0)");
+      if (!(*a <= 30.0)) return usage_error(env, "mesh", "--min-dihedral expects degrees in (0, 30]");
       conforming.min_dihedral = *a;
     }
     return mesh_surface(s, cl, request, options3, k, all, &conforming);

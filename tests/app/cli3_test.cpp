@@ -672,7 +672,7 @@ TEST_F(Cli3Test, UsageErrorsExitWith64) {
       "mesh two.obj --conforming --method csg",
       "mesh two.obj --conforming --radius-edge 0.5",     // below 1
       "mesh two.obj --conforming --edge-length -1",
-      "mesh two.obj --conforming --radius-edge 0 --min-dihedral 10",
+      "mesh two.obj --conforming --min-dihedral 40",
       "mesh two.obj --resolution 151",  // beyond the 3D grid limit
       "deform two.obj --handles h.json -o d --resolution 151",  // the same limit, before any work
       "weights two.obj --handles h.json -o w.vtu --resolution 151",
