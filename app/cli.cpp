@@ -1010,19 +1010,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
     if (!options.conforming) return mesh_surface(s, cl, request, options3, k, all);
     // --conforming: TetGen's tets; the edge length defaults to the grid's cube side.
     dim3::ConformingOptions3 conforming;
-    conforming.edge_length = 0.0;
-    if (auto h = cl.real("--edge-length")) {
-      if (!(*h > 0 && std::isfinite(*h))) return usage_error(env, "mesh", "--edge-length expects a positive number");
-      conforming.edge_length = *h;
-    }
-    if (auto r = cl.real("--radius-edge")) {
-      if (!(*r >= 1.0 && std::isfinite(*r))) return usage_error(env, "mesh", "--radius-edge expects a number >= 1");
-      conforming.radius_edge = *r;
-    }
-    if (auto a = cl.real("--min-dihedral")) {
-      if (!(*a <= 30.0)) return usage_error(env, "mesh", "--min-dihedral expects degrees in (0, 30]");
-      conforming.min_dihedral = *a;
-    }
+    if (const std::string error = parse_conforming3(cl, conforming); !error.empty()) return usage_error(env, "mesh", error);
     return mesh_surface(s, cl, request, options3, k, all, &conforming);
   }
   for (const char* option : {"--all", "--threads", "--no-helper-boxes", "--edge-length", "--radius-edge", "--min-dihedral"})

@@ -576,13 +576,8 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   if (conforming) {
     conforming_options = *conforming;
     conforming_options.progress = mesh_options.progress;
-    if (conforming_options.edge_length == 0.0) {
-      // Default: the side of the background grid's cubes at this resolution.
-      const Box3 box = dim3::bounding_box(p.surface);
-      double longest = 0.0;
-      for (int d = 0; d < 3; ++d) longest = std::max(longest, box.hi[d] - box.lo[d]);
-      conforming_options.edge_length = longest / options.resolution;
-    }
+    if (conforming_options.edge_length == 0.0)
+      conforming_options.edge_length = conforming_edge_length(p.surface, options.resolution);
     if (!(conforming_options.edge_length > 0 && std::isfinite(conforming_options.edge_length)))
       return usage_error(s.env(), "mesh", "--conforming: the input's box is flat or not finite; pass --edge-length");
     conforming = &conforming_options;

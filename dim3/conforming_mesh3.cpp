@@ -467,6 +467,8 @@ ConformingResult3 mesh_conforming3(const Complex3& complex, const Immersion& imm
     result.report.add(defect(DefectKind::OutOfRange, message));
     result.mesh = {};
     result.embedding.clear();
+    result.tetrahedralization = {};
+    result.source_tet.clear();
     return result;
   };
   std::vector<Point3> vertices(stats.tetgen_points);
@@ -603,7 +605,15 @@ ConformingResult3 mesh_conforming3(const Complex3& complex, const Immersion& imm
     }
     mesh.tets.push_back(tet);
     mesh.reference.push_back(unglued.copy_node[c].value());
+    result.source_tet.push_back(static_cast<int>(unglued.copy_element[c]));
     ++stats.copies_per_cell[immersion.layout.cell(unglued.copy_node[c]).index()];
+  }
+  result.tetrahedralization.vertices = vertices;
+  result.tetrahedralization.tets.reserve(tets.size());
+  result.tetrahedralization.reference.reserve(tets.size());
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    result.tetrahedralization.tets.push_back({tets[t][0], tets[t][1], tets[t][2], tets[t][3]});
+    result.tetrahedralization.reference.push_back(region[t].value());
   }
   stats.output_tets = mesh.tets.size();
   stats.output_vertices = mesh.vertices.size();

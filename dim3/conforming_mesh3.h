@@ -82,6 +82,10 @@ struct ConformingResult3 {
   TetMesh mesh;                             ///< reference = graph node
   std::vector<EmbeddedVertex3> embedding;   ///< per user vertex: a tet with that vertex as corner, weight 1
   ConformingStats3 stats;
+  /// TetGen's tets (positively oriented, reference = the region id of each tet's label): what
+  /// the glued baseline of `immerse deform --glued` deforms, every copy glued back.
+  TetMesh tetrahedralization;
+  std::vector<int> source_tet;  ///< per output tet: its tet of `tetrahedralization`
 };
 
 /// Meshes one immersion of the complex conformingly. `input_vertices` / `input_triangles` count

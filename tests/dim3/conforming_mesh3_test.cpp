@@ -215,7 +215,9 @@ void check_conforming(const Conformed& c, std::size_t samples = 40) {
       }
     }
   }
-  if (c.im.helper_boxes.empty()) EXPECT_EQ(helper, 0u);
+  if (c.im.helper_boxes.empty()) {
+    EXPECT_EQ(helper, 0u);
+  }
 
   // 6. Euler characteristic: V - E + F - T = chi(user surface) / 2.
   {
