@@ -163,8 +163,9 @@ bool improper_contact(const Plc& plc, const std::array<std::int32_t, 3>& t1, con
   return false;
 }
 
-/// The exact checks of the rounded cut mesh (see the header). Defects go to `report`.
-void check_plc(const Complex3& complex, const Plc& plc, ValidationReport& report) {
+/// The exact checks of the rounded cut mesh (see the header). `source[x]`: the input triangle of
+/// facet x, for messages. Defects go to `report`.
+void check_plc(const Plc& plc, const std::vector<std::uint32_t>& source_triangle, ValidationReport& report) {
   // Distinct exact points that round to one double point.
   {
     std::vector<std::uint32_t> order(plc.points.size());
@@ -182,7 +183,7 @@ void check_plc(const Complex3& complex, const Plc& plc, ValidationReport& report
     }
   }
   const auto P = [&](std::int32_t v) -> const P3& { return plc.points[static_cast<std::size_t>(v)]; };
-  const auto source = [&](std::size_t x) { return static_cast<long>(complex.cut_triangle_source[x]); };
+  const auto source = [&](std::size_t x) { return static_cast<long>(source_triangle[x]); };
   for (std::size_t x = 0; x < plc.facets.size(); ++x) {
     const auto& f = plc.facets[x];
     if (!CGAL::collinear(P(f[0]), P(f[1]), P(f[2]))) continue;
@@ -390,6 +391,18 @@ double median(std::vector<double>& values) {
 
 }  // namespace
 
+ValidationReport check_rounded_cut_mesh(const std::vector<Point3>& points,
+                                        const std::vector<std::array<std::int32_t, 3>>& triangles,
+                                        const std::vector<std::uint32_t>& source_triangle) {
+  IMM_ASSERT(source_triangle.size() == triangles.size(), "one source per triangle");
+  Plc plc;
+  for (const Point3& p : points) plc.points.push_back(point(p));
+  plc.facets = triangles;
+  ValidationReport report;
+  check_plc(plc, source_triangle, report);
+  return report;
+}
+
 ConformingResult3 mesh_conforming3(const Complex3& complex, const Immersion& immersion,
                                    const ConformingOptions3& options, std::size_t input_vertices,
                                    std::size_t input_triangles) {
@@ -409,7 +422,7 @@ ConformingResult3 mesh_conforming3(const Complex3& complex, const Immersion& imm
   const Plc plc = make_plc(complex);
   stats.plc_points = plc.points.size();
   stats.plc_triangles = plc.facets.size();
-  check_plc(complex, plc, result.report);
+  check_plc(plc, complex.cut_triangle_source, result.report);
   stats.seconds_checks = seconds_since(start);
   if (!result.report.ok()) return result;
   log("conforming: " + std::to_string(plc.facets.size()) + " cut triangles, " + std::to_string(plc.points.size()) +

@@ -21,7 +21,9 @@
 // CGAL-free facade; the work happens in dim3/conforming_mesh3.cpp (CGAL predicates + TetGen).
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -87,6 +89,14 @@ struct ConformingResult3 {
   TetMesh tetrahedralization;
   std::vector<int> source_tet;  ///< per output tet: its tet of `tetrahedralization`
 };
+
+/// The exact checks mesh_conforming3 runs on the rounded cut mesh before TetGen: no two points
+/// equal, no flat triangle, two triangles meet only in their shared vertices or their shared
+/// edge (exact predicates on the doubles; CGAL Epick). `source_triangle[x]` names the input
+/// triangle of triangle x in messages. @return every defect (empty: TetGen may take it).
+ValidationReport check_rounded_cut_mesh(const std::vector<Point3>& points,
+                                        const std::vector<std::array<std::int32_t, 3>>& triangles,
+                                        const std::vector<std::uint32_t>& source_triangle);
 
 /// Meshes one immersion of the complex conformingly. `input_vertices` / `input_triangles` count
 /// the user's leading vertices and triangles (helper boxes come after them): the solids of graph

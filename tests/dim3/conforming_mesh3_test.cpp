@@ -340,6 +340,34 @@ TEST(Conforming3, DoubleLoopWithCube) {
   check_conforming(conform(r.surface, 0.1), 10);
 }
 
+TEST(Conforming3, RoundedCutMeshChecksAreExact) {
+  // The checks run before TetGen on the rounded cut mesh, on hand-made configurations: each
+  // improper contact is found, each proper one (a shared vertex or edge only) passes.
+  const auto defects = [](std::vector<Point3> points, std::vector<std::array<std::int32_t, 3>> triangles) {
+    return check_rounded_cut_mesh(points, triangles, std::vector<std::uint32_t>(triangles.size(), 0)).total();
+  };
+  const Point3 o{0, 0, 0}, x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  // A shared edge: folded onto each other (coplanar, same side) is refused; opposite sides or
+  // out of the plane pass; out of the plane by one ulp passes too (exact, no tolerance).
+  EXPECT_GT(defects({o, x, y, {0.5, 0.25, 0}}, {{0, 1, 2}, {0, 1, 3}}), 0u);
+  EXPECT_EQ(defects({o, x, y, {0.5, -0.25, 0}}, {{0, 1, 2}, {0, 3, 1}}), 0u);
+  EXPECT_EQ(defects({o, x, y, {0.5, 0.25, 1e-300}}, {{0, 1, 2}, {0, 1, 3}}), 0u);
+  // A shared vertex: the other triangle's far edge through this one is refused; a coplanar
+  // triangle in this one's wedge is refused; a disjoint wedge passes.
+  EXPECT_GT(defects({o, x, y, {0.2, 0.2, -1}, {0.2, 0.2, 1}}, {{0, 1, 2}, {0, 3, 4}}), 0u);
+  EXPECT_GT(defects({o, x, y, {0.1, 0.05, 0}, {0.05, 0.1, 0}}, {{0, 1, 2}, {0, 3, 4}}), 0u);
+  EXPECT_EQ(defects({o, x, y, {-1, -0.5, 0}, {-0.5, -1, 0}}, {{0, 1, 2}, {0, 3, 4}}), 0u);
+  EXPECT_EQ(defects({o, x, y, z, {-1, 0, 1}}, {{0, 1, 2}, {0, 3, 4}}), 0u);
+  // Nothing shared: crossing is refused, apart passes.
+  EXPECT_GT(defects({o, x, y, {0.2, 0.2, -1}, {0.3, 0.2, 1}, {0.2, 0.3, 1}}, {{0, 1, 2}, {3, 4, 5}}), 0u);
+  EXPECT_EQ(defects({o, x, y, {2, 2, -1}, {3, 2, 1}, {2, 3, 1}}, {{0, 1, 2}, {3, 4, 5}}), 0u);
+  // Two points rounded together, and a flat triangle.
+  EXPECT_GT(defects({o, x, y, {1, 0, 0}}, {{0, 1, 2}, {0, 3, 2}}), 0u);
+  EXPECT_GT(defects({o, x, {2, 0, 0}}, {{0, 1, 2}}), 0u);
+  // The same triangle twice.
+  EXPECT_GT(defects({o, x, y}, {{0, 1, 2}, {0, 2, 1}}), 0u);
+}
+
 TEST(Conforming3, CheckerRejectsAWeldedOutput) {
   // The checker must fail a mesh whose copies were glued across an owned patch: weld every output
   // vertex to the first vertex at the same position (what gluing everything would give).
