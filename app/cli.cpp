@@ -195,7 +195,8 @@ std::vector<CommandSpec> make_command_specs() {
   CommandSpec mesh;
   mesh.name = "mesh";
   mesh.usage =
-      "mesh IN [--resolution N | --background FILE] [--conforming]\n"
+      "mesh IN [--resolution N | --background FILE] [--conforming [--edge-length H] [--radius-edge R]\n"
+      "                   [--min-dihedral DEG]]\n"
       "                   [--immersion K | --all] [--method clip|csg] [-o OUT] [--embedding OUT.emb]\n"
       "                   [--svg OUT.svg] [--threads N] [--json OUT]";
   mesh.positional_help = check.positional_help;
