@@ -201,7 +201,8 @@ std::vector<CommandSpec> make_command_specs() {
   CommandSpec mesh;
   mesh.name = "mesh";
   mesh.usage =
-      "mesh IN [--resolution N | --background FILE] [--conforming]\n"
+      "mesh IN [--resolution N | --background FILE] [--conforming [--edge-length H] [--radius-edge R]\n"
+      "                   [--min-dihedral DEG]]\n"
       "                   [--immersion K | --all] [--method clip|csg] [-o OUT] [--embedding OUT.emb]\n"
       "                   [--svg OUT.svg] [--threads N] [--json OUT]";
   mesh.positional_help = check.positional_help;
@@ -218,7 +219,18 @@ std::vector<CommandSpec> make_command_specs() {
       {"--background", ValueKind::Text, "FILE",
        "a background mesh instead of the grid: 2D a Medit .mesh (Dimension 2); 3D Vega .veg, Medit "
        ".mesh, TetGen .node/.ele, Gmsh .msh 4.1 (it must cover the input and meet it generically, else exit 2)"},
-      {"--conforming", ValueKind::Flag, "", "(2D) insert the input as constraints (no triangle is cut by the input)"},
+      {"--conforming", ValueKind::Flag, "",
+       "insert the input as constraints: 2D, no triangle is cut by the curve; 3D, TetGen's constrained Delaunay "
+       "tets whose boundary faces are exactly the input triangles cut along the intersection curves (no "
+       "background, no virtual tets; each input vertex is an output vertex)"},
+      {"--edge-length", ValueKind::Real, "H",
+       "(3D --conforming) target edge length inside the cells (TetGen volume bound of the regular tet of edge H; "
+       "default: longest side of the input's box / resolution)"},
+      {"--radius-edge", ValueKind::Real, "R",
+       "(3D --conforming) radius-edge ratio bound of TetGen's quality refinement, >= 1 (default 2)"},
+      {"--min-dihedral", ValueKind::Real, "DEG",
+       "(3D --conforming) minimum dihedral angle TetGen aims for, up to 30 degrees (default none; slivers on the "
+       "preserved surface may stay: the JSON counts them)"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (0-based, in the search's order; default 0)", 0,
        1'000'000},
       {"--all", ValueKind::Flag, "", "(3D) mesh every immersion: OUT_K.ext and OUT_K.emb for immersion K"},
@@ -979,9 +991,13 @@ int command_mesh(Session& s, const CommandLine& cl) {
     }
     if (auto n = cl.integer("--threads")) options3.threads = static_cast<unsigned>(*n);
     if (all && cl.has("--immersion")) return usage_error(env, "mesh", "--all and --immersion exclude each other");
-    return mesh_surface(s, cl, request, options3, k, all);
+    if (!options.conforming) return mesh_surface(s, cl, request, options3, k, all);
+    // --conforming: TetGen's tets; the edge length defaults to the grid's cube side.
+    dim3::ConformingOptions3 conforming;
+    if (const std::string error = parse_conforming3(cl, conforming); !error.empty()) return usage_error(env, "mesh", error);
+    return mesh_surface(s, cl, request, options3, k, all, &conforming);
   }
-  for (const char* option : {"--all", "--threads", "--no-helper-boxes"})
+  for (const char* option : {"--all", "--threads", "--no-helper-boxes", "--edge-length", "--radius-edge", "--min-dihedral"})
     if (cl.has(option)) return usage_error(env, "mesh", std::string(option) + " is for 3D surfaces only");
 
   s.enable_summary();

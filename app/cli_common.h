@@ -8,7 +8,9 @@
 //    combinatorial cell complex through hooks for the dimension's geometry).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -33,6 +35,7 @@
 #include "core/perturbation.h"
 #include "core/graph_search.h"
 #include "core/verdicts.h"
+#include "dim3/conforming_mesh3.h"
 #include "dim3/mesh3.h"
 
 #include <nlohmann/json.hpp>
@@ -85,6 +88,37 @@ inline std::string check_resolution3(int resolution) {
   if (resolution <= kMaxResolution3) return {};
   return "--resolution " + std::to_string(resolution) + ": at most " + std::to_string(kMaxResolution3) +
          " grid cubes along the longest side in 3D";
+}
+
+/// --edge-length, --radius-edge, --min-dihedral of the 3D conforming mesher (mesh, deform,
+/// weights), into `options` (edge_length 0: not given, see conforming_edge_length).
+/// @return a usage error message, or empty.
+inline std::string parse_conforming3(const CommandLine& cl, dim3::ConformingOptions3& options) {
+  options.edge_length = 0.0;
+  if (auto h = cl.real("--edge-length")) {
+    if (!std::isfinite(*h)) return "--edge-length expects a positive number";
+    options.edge_length = *h;
+  }
+  if (auto r = cl.real("--radius-edge")) {
+    if (!(*r >= 1.0 && std::isfinite(*r))) return "--radius-edge expects a number >= 1";
+    options.radius_edge = *r;
+  }
+  if (auto a = cl.real("--min-dihedral")) {
+    if (!(*a <= 30.0)) return "--min-dihedral expects degrees in (0, 30]";
+    options.min_dihedral = *a;
+  }
+  return {};
+}
+
+/// The default target edge length of a conforming mesh: the side of the background grid's cubes
+/// at `resolution` (longest side of the input's box / resolution). 0 for a flat or empty box.
+inline double conforming_edge_length(const dim3::Surface& surface, int resolution) {
+  if (surface.vertices.empty()) return 0.0;
+  const dim3::Box3 box = dim3::bounding_box(surface);
+  double longest = 0.0;
+  for (int d = 0; d < 3; ++d) longest = std::max(longest, box.hi[d] - box.lo[d]);
+  const double h = longest / resolution;
+  return std::isfinite(h) && h > 0 ? h : 0.0;
 }
 
 // ---- one run: timings, counts, written files -------------------------------------------------
@@ -498,9 +532,10 @@ int cells_surface(Session& s, const CommandLine& cl);
 /// `immerse immersions IN [...]` on a surface (helper boxes for self-connecting cells).
 int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& request);
 /// `immerse mesh IN [...]` on a surface: immersion k (or every one when `all`), written as
-/// .mesh/.vtu/.veg, .emb and JSON.
+/// .mesh/.vtu/.veg, .emb and JSON. With `conforming` set (`--conforming`), the conforming
+/// mesher (dim3/conforming_mesh3.h) instead of the background mesher.
 int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions3& options,
-                 std::size_t k, bool all);
+                 std::size_t k, bool all, const dim3::ConformingOptions3* conforming = nullptr);
 
 /// One line of `immerse generate --list`.
 struct GeneratorEntry {

@@ -353,6 +353,18 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   }
   SearchOptions search;
   search.max_immersions = k + 1;
+  const bool conforming = cl.has("--conforming");
+  dim3::ConformingOptions3 conforming_options;
+  if (conforming && cl.has("--background"))
+    return usage_error(s.env(), command, "--conforming and --background exclude each other");
+  if (!conforming || !is_surface_file(path)) {
+    for (const char* option : {"--edge-length", "--radius-edge", "--min-dihedral"})
+      if (cl.has(option)) return usage_error(s.env(), command, std::string(option) + " is for 3D --conforming only");
+  }
+  if (conforming) {
+    if (const std::string error = parse_conforming3(cl, conforming_options); !error.empty())
+      return usage_error(s.env(), command, error);
+  }
   if (is_surface_file(path)) {
     if (auto n = cl.integer("--resolution")) {
       if (const std::string error = check_resolution3(static_cast<int>(*n)); !error.empty()) {
@@ -376,14 +388,34 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     dim3::MeshOptions3 options;
     options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
     if (auto b = cl.value("--background")) options.background_path = *b;
-    const dim3::MeshResult3 m = s.timed("mesh", [&] {
-      return dim3::mesh_immersion3(*im.build.complex, im.search.immersions[k], options, im.input_vertices, im.input_triangles);
-    });
-    if (!m.report.ok()) {
-      print_defects(s, path, m.report);
-      return kExitInvalidInput;
+    DeformableInput<3> in;
+    std::vector<int> reference;
+    if (conforming) {
+      if (conforming_options.edge_length == 0.0)
+        conforming_options.edge_length = conforming_edge_length(read.surface, options.resolution);
+      if (!(conforming_options.edge_length > 0))
+        return usage_error(s.env(), command, "--conforming: the input's box is flat; pass --edge-length");
+      const dim3::ConformingResult3 m = s.timed("mesh", [&] {
+        return dim3::mesh_conforming3(*im.build.complex, im.search.immersions[k], conforming_options, im.input_vertices,
+                                      im.input_triangles);
+      });
+      if (!m.report.ok()) {
+        print_defects(s, path, m.report);
+        return kExitInvalidInput;
+      }
+      in = deform::deformable(m);
+      reference = m.mesh.reference;
+    } else {
+      const dim3::MeshResult3 m = s.timed("mesh", [&] {
+        return dim3::mesh_immersion3(*im.build.complex, im.search.immersions[k], options, im.input_vertices, im.input_triangles);
+      });
+      if (!m.report.ok()) {
+        print_defects(s, path, m.report);
+        return kExitInvalidInput;
+      }
+      in = deform::deformable(m);
+      reference = m.mesh.reference;
     }
-    const DeformableInput<3> in = deform::deformable(m);
     dim3::Surface surface = read.surface;
     InputOps ops;
     ops.extension = ".obj";
@@ -395,7 +427,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     };
     ops.format = [moved](const Eigen::MatrixXd& p) { return dim3::format_obj(moved(p)); };
     ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim3::check_generic_surface(moved(p)).intersecting_pairs; };
-    return on_mesh<3>(s, cl, command, in, m.mesh.reference, ops);
+    return on_mesh<3>(s, cl, command, in, reference, ops);
   }
   dim2::ReadResult read = s.timed("read", [&] { return dim2::read_curves(path); });
   if (!read.report.ok()) {
@@ -413,6 +445,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   dim2::MeshOptions options;
   options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
   if (auto b = cl.value("--background")) options.background_path = *b;
+  options.conforming = conforming;
   const dim2::MeshResult m = s.timed("mesh", [&] { return dim2::mesh_immersion(*built.complex, r.immersions[k], options); });
   if (!m.report.ok()) {
     print_defects(s, path, m.report);
@@ -439,7 +472,7 @@ CommandSpec deform_command_spec() {
   spec.name = "deform";
   spec.usage =
       "deform IN --handles H.json -o DIR [--method arap|fem|fem-static] [--frames N] [--iterations N]\n"
-      "                   [--glued] [--resolution N | --background FILE] [--immersion K] [--json OUT]";
+      "                   [--glued] [--resolution N | --background FILE | --conforming] [--immersion K] [--json OUT]";
   spec.positional_help = "a 2D curve file or a 3D surface (as for 'immerse mesh')";
   spec.description =
       "Meshes immersion K of IN as 'immerse mesh' does, then deforms the unglued mesh (paper §8): ARAP\n"
@@ -463,6 +496,10 @@ CommandSpec deform_command_spec() {
       {"--resolution", ValueKind::Integer, "N", "as for 'immerse mesh'", 1, 100'000},
       {"--background", ValueKind::Text, "FILE", "as for 'immerse mesh'"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (default 0)", 0, 1'000'000},
+      {"--conforming", ValueKind::Flag, "", "the conforming mesh of 'immerse mesh --conforming' (3D: TetGen's tets; --glued: its tets glued back)"},
+      {"--edge-length", ValueKind::Real, "H", "(3D --conforming) as for 'immerse mesh'"},
+      {"--radius-edge", ValueKind::Real, "R", "(3D --conforming) as for 'immerse mesh'"},
+      {"--min-dihedral", ValueKind::Real, "DEG", "(3D --conforming) as for 'immerse mesh'"},
       {"--json", ValueKind::Text, "OUT", "per frame: energy or Newton iterations, inverted elements, self-intersections; timings"},
   };
   spec.footer =
@@ -474,7 +511,8 @@ CommandSpec deform_command_spec() {
 CommandSpec weights_command_spec() {
   CommandSpec spec;
   spec.name = "weights";
-  spec.usage = "weights IN --handles H.json -o OUT.vtu [--glued] [--resolution N | --background FILE] [--immersion K]";
+  spec.usage = "weights IN --handles H.json -o OUT.vtu [--glued] [--resolution N | --background FILE | --conforming]\n"
+               "                   [--immersion K]";
   spec.positional_help = "a 2D curve file or a 3D surface (as for 'immerse mesh')";
   spec.description =
       "Bounded biharmonic weights (Jacobson et al. 2011) of the handles of H.json (their selections; see\n"
@@ -487,6 +525,10 @@ CommandSpec weights_command_spec() {
       {"--resolution", ValueKind::Integer, "N", "as for 'immerse mesh'", 1, 100'000},
       {"--background", ValueKind::Text, "FILE", "as for 'immerse mesh'"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (default 0)", 0, 1'000'000},
+      {"--conforming", ValueKind::Flag, "", "the conforming mesh of 'immerse mesh --conforming' (3D: TetGen's tets; --glued: its tets glued back)"},
+      {"--edge-length", ValueKind::Real, "H", "(3D --conforming) as for 'immerse mesh'"},
+      {"--radius-edge", ValueKind::Real, "R", "(3D --conforming) as for 'immerse mesh'"},
+      {"--min-dihedral", ValueKind::Real, "DEG", "(3D --conforming) as for 'immerse mesh'"},
   };
   spec.footer = "Exit codes: 0 ok, 2 invalid input or handle file, 3 not immersible, 64 bad command line.\n";
   return spec;

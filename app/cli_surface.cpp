@@ -7,6 +7,7 @@
 // validator's, or the exact intersection's non-generic contacts) -> 2; an inversion, a proven
 // non-immersible input, a self-connecting cell left uncut, an exhausted budget -> 3.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -456,12 +457,52 @@ Json mesh3_json(const dim3::MeshResult3& m, std::size_t k, const Immersion& imme
   return j;
 }
 
+Json conforming3_json(const dim3::ConformingResult3& m, std::size_t k, const Immersion& immersion) {
+  Json j = Json::object();
+  j["immersion"] = k;
+  Json& c = (j["counts"] = Json::object());
+  c["cut_triangles"] = m.stats.plc_triangles;
+  c["cut_points"] = m.stats.plc_points;
+  c["tetgen_tets"] = m.stats.tetgen_tets;
+  c["tetgen_points"] = m.stats.tetgen_points;
+  c["tet_components"] = m.stats.components;
+  c["output_tets"] = m.stats.output_tets;
+  c["output_vertices"] = m.stats.output_vertices;
+  c["helper_tets_dropped"] = m.stats.helper_tets;
+  c["embedded_vertices"] = m.embedding.size();
+  c["embedding_error"] = m.stats.embedding_error;
+  c["unused_vertices"] = m.stats.unused_vertices;
+  c["graph_nodes"] = immersion.layout.node_count();
+  Json& per_cell = (c["copies_per_cell"] = Json::array());
+  for (std::size_t n : m.stats.copies_per_cell) per_cell.emplace_back(n);
+  Json& q = (j["quality"] = Json::object());
+  q["min_dihedral_deg"] = m.stats.min_dihedral;
+  q["median_dihedral_deg"] = m.stats.median_dihedral;
+  q["max_radius_edge"] = m.stats.max_radius_edge;
+  q["median_radius_edge"] = m.stats.median_radius_edge;
+  q["sliver_bound_deg"] = m.stats.sliver_bound;
+  q["slivers"] = m.stats.slivers;
+  q["slivers_at_surface"] = m.stats.slivers_at_surface;
+  Json& phases = (j["mesh_phases_ms"] = Json::object());
+  phases["exact_checks"] = m.stats.seconds_checks * 1e3;
+  phases["tetgen"] = m.stats.seconds_tetgen * 1e3;
+  phases["assembly"] = m.stats.seconds_assembly * 1e3;
+  return j;
+}
+
 }  // namespace
 
 int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions3& options,
-                 std::size_t k, bool all) {
-  for (const char* option : {"--svg", "--conforming"})
-    if (cl.has(option)) return usage_error(s.env(), "mesh", std::string(option) + " is for 2D curves only");
+                 std::size_t k, bool all, const dim3::ConformingOptions3* conforming) {
+  if (cl.has("--svg")) return usage_error(s.env(), "mesh", "--svg is for 2D curves only");
+  if (conforming) {
+    for (const char* option : {"--background", "--method", "--threads"})
+      if (cl.has(option))
+        return usage_error(s.env(), "mesh", std::string(option) + " is for the background mesher, not --conforming");
+  } else {
+    for (const char* option : {"--edge-length", "--radius-edge", "--min-dihedral"})
+      if (cl.has(option)) return usage_error(s.env(), "mesh", std::string(option) + " needs --conforming");
+  }
   if (auto path = cl.value("-o")) {
     const std::string ext = extension_of(*path);
     if (ext != ".mesh" && ext != ".vtu" && ext != ".veg" && ext != ".msh" && ext != ".node")
@@ -508,7 +549,79 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   const std::size_t first = all ? 0 : k;
   const std::size_t last = all ? r.immersions.size() : k + 1;
   std::size_t total_tets = 0;
-  for (std::size_t i = first; i < last; ++i) {
+  dim3::ConformingOptions3 conforming_options;
+  if (conforming) {
+    conforming_options = *conforming;
+    conforming_options.progress = mesh_options.progress;
+    if (conforming_options.edge_length == 0.0)
+      conforming_options.edge_length = conforming_edge_length(p.surface, options.resolution);
+    if (!(conforming_options.edge_length > 0 && std::isfinite(conforming_options.edge_length)))
+      return usage_error(s.env(), "mesh", "--conforming: the input's box is flat or not finite; pass --edge-length");
+    conforming = &conforming_options;
+    o["conforming"] = true;
+    o["edge_length"] = conforming->edge_length;
+    o["radius_edge"] = conforming->radius_edge;
+    o["min_dihedral"] = conforming->min_dihedral;
+  }
+  for (std::size_t i = first; i < last && conforming; ++i) {
+    const dim3::ConformingResult3 m = s.timed("mesh", [&] {
+      return dim3::mesh_conforming3(*p.complex, r.immersions[i], conforming_options, im.input_vertices,
+                                    im.input_triangles);
+    });
+    if (!m.report.ok()) {
+      s.err() << "immerse: cannot mesh '" << p.path << "' conformingly: " << plural(m.report.total(), "defect") << '\n'
+              << m.report.summary();
+      s.set_counts("meshing failed (" + plural(m.report.total(), "defect") + ")");
+      if (json_path) {
+        Json j = Json::object();
+        j["input"] = input_json(p);
+        j["status"] = "invalid-input";
+        j["defects"] = defects_json(m.report, "triangles");
+        j["timings_ms"] = s.timings_json();
+        if (!s.write(*json_path, j.dump(2) + "\n", "report")) return kExitInternalError;
+      }
+      print_written(s);
+      return kExitInvalidInput;
+    }
+    total_tets += m.stats.output_tets;
+    if (!m.stats.unused_vertices.empty()) {
+      const std::size_t v = m.stats.unused_vertices.front();
+      s.err() << "immerse: note: " << plural(m.stats.unused_vertices.size(), "input vertex", "input vertices")
+              << " (vertex " << v << " " << dim3::format_point(p.surface.vertices[v])
+              << (m.stats.unused_vertices.size() > 1 ? ", ..." : "")
+              << ") used by no triangle: left out of the embedding (-1 in the .emb)\n";
+    }
+    s.out() << describe_input(p) << ": immersion " << i << " of " << r.immersions.size() << (r.complete ? "" : "+")
+            << " meshed conformingly: " << plural(m.stats.output_tets, "tet") << ", "
+            << plural(m.stats.output_vertices, "vertex", "vertices") << " (TetGen " << plural(m.stats.tetgen_tets, "tet")
+            << " on " << plural(m.stats.plc_triangles, "cut triangle")
+            << (m.stats.helper_tets > 0 ? ", " + std::to_string(m.stats.helper_tets) + " helper-box tets dropped" : "")
+            << "; dihedral angles min " << m.stats.min_dihedral << " median " << m.stats.median_dihedral
+            << " deg, radius-edge max " << m.stats.max_radius_edge << ")\n";
+    Json entry = conforming3_json(m, i, r.immersions[i]);
+    Json& outputs = (entry["outputs"] = Json::object());
+    if (auto path = cl.value("-o")) {
+      const std::string out = all ? numbered(*path, i) : *path;
+      if (extension_of(out) == ".node") {
+        const dim3::TetGenTexts texts = dim3::format_tetgen(m.mesh);
+        const auto [node_path, ele_path] = dim3::tetgen_paths(out);
+        if (!s.write(node_path, texts.node, "the tet mesh's vertices (TetGen)") ||
+            !s.write(ele_path, texts.ele, "the tet mesh's tets (TetGen, region = graph node)"))
+          return kExitInternalError;
+      } else if (!s.write(out, format_tet_mesh(out, m.mesh), "the conforming tet mesh (reference = graph node)")) {
+        return kExitInternalError;
+      }
+      outputs["mesh"] = out;
+    }
+    if (auto path = cl.value("--embedding")) {
+      const std::string out = all ? numbered(*path, i) : *path;
+      if (!s.write(out, dim3::format_embedding3(m.embedding), "the embedding of the input vertices (weight 1 each)"))
+        return kExitInternalError;
+      outputs["embedding"] = out;
+    }
+    meshes.emplace_back(std::move(entry));
+  }
+  for (std::size_t i = first; i < last && !conforming; ++i) {
     const dim3::MeshResult3 m = s.timed("mesh", [&] {
       return dim3::mesh_immersion3(*p.complex, r.immersions[i], mesh_options, im.input_vertices, im.input_triangles);
     });

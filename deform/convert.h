@@ -6,6 +6,7 @@
 #include "deform/glued.h"
 #include "deform/simplex_mesh.h"
 #include "dim2/mesh2.h"
+#include "dim3/conforming_mesh3.h"
 #include "dim3/mesh3.h"
 
 namespace imm::deform {
@@ -64,6 +65,17 @@ inline DeformableInput<3> deformable(const dim3::MeshResult3& result) {
   in.unglued = to_simplex_mesh(result.mesh);
   in.unglued_embedding = to_embedding(result.embedding);
   in.glued = glue_copies<3>(to_simplex_mesh(result.background), result.background_tet);
+  in.glued_embedding = deform::glued_embedding(in.unglued_embedding, in.glued.element_of_copy);
+  return in;
+}
+
+/// A conforming 3D mesh (dim3/conforming_mesh3.h): the unglued copies, and as the glued baseline
+/// TetGen's tets with every copy glued back.
+inline DeformableInput<3> deformable(const dim3::ConformingResult3& result) {
+  DeformableInput<3> in;
+  in.unglued = to_simplex_mesh(result.mesh);
+  in.unglued_embedding = to_embedding(result.embedding);
+  in.glued = glue_copies<3>(to_simplex_mesh(result.tetrahedralization), result.source_tet);
   in.glued_embedding = deform::glued_embedding(in.unglued_embedding, in.glued.element_of_copy);
   return in;
 }

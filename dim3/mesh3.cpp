@@ -45,6 +45,22 @@ Box3 used_bounding_box(const Surface& s) {
 
 namespace detail {
 
+std::vector<char> helper_nodes(const Complex3& complex, const Immersion& immersion, std::size_t input_triangles) {
+  const NodeLayout& layout = immersion.layout;
+  std::vector<char> helper_node(layout.node_count(), 0);
+  if (input_triangles >= complex.surface.triangle_count()) return helper_node;
+  const std::vector<std::vector<NodeId>> components = immersion.components();
+  std::vector<std::size_t> component_of(layout.node_count(), 0);
+  for (std::size_t k = 0; k < components.size(); ++k)
+    for (NodeId n : components[k]) component_of[n.index()] = k;
+  std::vector<char> owns_user_patch(components.size(), 0);
+  for (std::size_t x = 0; x < complex.cut_triangles.size(); ++x)
+    if (complex.cut_triangle_source[x] < input_triangles)
+      owns_user_patch[component_of[immersion.owner[complex.cut_triangle_patch[x]].index()]] = 1;
+  for (std::size_t n = 0; n < helper_node.size(); ++n) helper_node[n] = owns_user_patch[component_of[n]] ? 0 : 1;
+  return helper_node;
+}
+
 void assemble3(const Complex3& complex, const Immersion& immersion, const TetMesh& background,
                const LocalRegions3& local, std::size_t input_vertices, std::size_t input_triangles,
                bool record_contents, MeshResult3& result) {
@@ -63,19 +79,7 @@ void assemble3(const Complex3& complex, const Immersion& immersion, const TetMes
 
   // 4. Duplicate and connect.
   const UnglueResult<3> unglued = unglue<3>(input);
-  // Helper-box solids: graph components owning only patches of helper triangles.
-  std::vector<char> helper_node(layout.node_count(), 0);
-  if (input_triangles < complex.surface.triangle_count()) {
-    const std::vector<std::vector<NodeId>> components = immersion.components();
-    std::vector<std::size_t> component_of(layout.node_count(), 0);
-    for (std::size_t k = 0; k < components.size(); ++k)
-      for (NodeId n : components[k]) component_of[n.index()] = k;
-    std::vector<char> owns_user_patch(components.size(), 0);
-    for (std::size_t x = 0; x < complex.cut_triangles.size(); ++x)
-      if (complex.cut_triangle_source[x] < input_triangles)
-        owns_user_patch[component_of[immersion.owner[complex.cut_triangle_patch[x]].index()]] = 1;
-    for (std::size_t n = 0; n < helper_node.size(); ++n) helper_node[n] = owns_user_patch[component_of[n]] ? 0 : 1;
-  }
+  const std::vector<char> helper_node = helper_nodes(complex, immersion, input_triangles);
   std::vector<std::uint32_t> copy_index(unglued.copies.size(), kNone);
   std::vector<std::int32_t> vertex_index(unglued.vertex_source.size(), -1);
   TetMesh& mesh = result.mesh;

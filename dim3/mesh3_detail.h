@@ -130,6 +130,12 @@ LocalRegions3 compute_local_regions3_csg(const Complex3& complex, const TetMesh&
                                          unsigned threads, const LogCallback& progress, ValidationReport& report,
                                          bool& non_generic);
 
+/// Per graph node: 1 when the node belongs to an immersion-graph component owning only patches of
+/// helper triangles (ids >= input_triangles): the solid of a helper box, dropped from every
+/// output (paper §6.2, §8). All zeros when there are no helper triangles. Shared by the
+/// background mesher (assemble3) and the conforming mesher (dim3/conforming_mesh3.cpp).
+std::vector<char> helper_nodes(const Complex3& complex, const Immersion& immersion, std::size_t input_triangles);
+
 /// The assembly stage of meshing (dim3/mesh3.cpp): one atom per graph node per local region,
 /// fused across the immersion graph's edges, duplicated and connected by unglue<3>, helper-box
 /// solids dropped, input vertices embedded. Fills result.mesh, background_tet, embedding,

@@ -8,6 +8,8 @@ packages=(build-essential cmake ccache libcgal-dev libgmp-dev libmpfr-dev libboo
 # Pictures (render/): POV-Ray renders the 3D figures headless, libpng reads PNGs back for the
 # content checks, rsvg-convert makes PNG previews of the 2D SVGs.
 packages+=(povray libpng-dev librsvg2-bin)
+# TetGen 1.5 (AGPL-3+): constrained Delaunay tets for conforming 3D meshes (dim3/conforming_mesh3.cpp).
+packages+=(libtet1.5-dev)
 packages+=(pybind11-dev python3-dev python3-numpy)  # the Python module (python/) and its tests
 missing=()
 for p in "${packages[@]}"; do

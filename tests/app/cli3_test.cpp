@@ -532,6 +532,76 @@ TEST_F(Cli3Test, MeshVerdictsMatchTheImmersionVerdicts) {
   EXPECT_FALSE(exists("open.mesh"));
 }
 
+TEST_F(Cli3Test, ConformingMeshKeepsEveryInputVertexAndTheCutTriangles) {
+  // Two overlapping boxes, meshed conformingly in every format: the formats read back as the
+  // same mesh; each input vertex is an output vertex at exactly its position (the .emb names a
+  // tet and gives weight 1 to that corner); the boundary faces of the output (faces of one tet)
+  // number the cut triangles the JSON reports; every tet is positive (the reader turns negative
+  // tets and counts them).
+  write("two.obj", two_boxes());
+  for (const char* out : {"two.mesh", "two.vtu", "two.msh"}) {
+    const Outcome r = run(std::string("mesh two.obj --conforming --edge-length 0.2 --radius-edge 1.5 --min-dihedral 10 -o ") +
+                          out + " --embedding two.emb --json two.json");
+    ASSERT_EQ(r.code, 0) << out << "\n" << r.output;
+    EXPECT_CONTAINS(r.output, "meshed conformingly");
+  }
+  const imm::dim3::TetReadResult medit = imm::dim3::read_tet_mesh((dir_ / "two.mesh").string());
+  ASSERT_TRUE(medit.report.ok()) << medit.report.summary();
+  EXPECT_EQ(medit.reoriented, 0u);
+  const imm::dim3::TetReadResult gmsh = imm::dim3::read_tet_mesh((dir_ / "two.msh").string());
+  ASSERT_TRUE(gmsh.report.ok());
+  EXPECT_EQ(gmsh.mesh.tets, medit.mesh.tets);
+  EXPECT_EQ(gmsh.mesh.vertices, medit.mesh.vertices);
+  const JsonValue j = read_json("two.json");
+  const JsonValue& m = j["meshes"][0];
+  EXPECT_EQ(m["counts"]["output_tets"].get<long>(), static_cast<long>(medit.mesh.tets.size()));
+  EXPECT_TRUE(j["options"]["conforming"].get<bool>());
+  // Boundary faces: faces of exactly one tet.
+  std::map<std::array<int, 3>, int> faces;
+  for (const auto& t : medit.mesh.tets)
+    for (int k = 0; k < 4; ++k) {
+      std::array<int, 3> f = {t[(k + 1) % 4], t[(k + 2) % 4], t[(k + 3) % 4]};
+      std::sort(f.begin(), f.end());
+      ++faces[f];
+    }
+  long boundary = 0;
+  for (const auto& [f, n] : faces) {
+    EXPECT_LE(n, 2);
+    boundary += n == 1;
+  }
+  EXPECT_EQ(boundary, m["counts"]["cut_triangles"].get<long>());
+  // The embedding: weight 1 on a corner at the input vertex's exact position.
+  const imm::dim3::Surface input = two_boxes();
+  std::istringstream emb(read("two.emb"));
+  std::size_t n = 0;
+  emb >> n;
+  ASSERT_EQ(n, input.vertices.size());
+  for (std::size_t v = 0; v < n; ++v) {
+    int element = -1;
+    std::array<double, 4> w{};
+    emb >> element >> w[0] >> w[1] >> w[2] >> w[3];
+    ASSERT_GE(element, 0);
+    int corner = -1;
+    for (int k = 0; k < 4; ++k)
+      if (w[k] == 1.0) corner = k;
+    ASSERT_GE(corner, 0) << "vertex " << v;
+    EXPECT_EQ(medit.mesh.vertices[medit.mesh.tets[element][corner]], input.vertices[v]) << "vertex " << v;
+  }
+}
+
+TEST_F(Cli3Test, ConformingMeshOfASelfConnectingShapeDropsTheHelperBoxSolid) {
+  ASSERT_EQ(run("generate double-loop-torus 24 -o loop.off").code, 0);
+  const Outcome r = run("mesh loop.off --conforming -o loop.vtu --json loop.json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_CONTAINS(r.output, "helper-box tets dropped");
+  const JsonValue j = read_json("loop.json");
+  EXPECT_EQ(j["helper_boxes"].size(), 1u);
+  const JsonValue& counts = j["meshes"][0]["counts"];
+  EXPECT_GT(counts["helper_tets_dropped"].get<long>(), 0);
+  EXPECT_GT(counts["output_tets"].get<long>(), 0);
+  EXPECT_EQ(counts["embedded_vertices"].get<long>(), j["input"]["vertices"].get<long>());
+}
+
 TEST_F(Cli3Test, MeshOfASelfConnectingShapeDropsTheHelperBoxSolid) {
   ASSERT_EQ(run("generate double-loop-torus 24 -o loop.off").code, 0);
   const Outcome r = run("mesh loop.off --resolution 12 -o loop.mesh --json loop.json");
@@ -597,7 +667,12 @@ TEST_F(Cli3Test, UsageErrorsExitWith64) {
       "generate no-such-shape",
       "mesh two.obj -o two.txt",        // tets are written as .mesh, .vtu or .veg
       "mesh two.obj --svg two.svg",     // mesh drawings are 2D
-      "mesh two.obj --conforming",
+      "mesh two.obj --edge-length 0.1",                  // sizing of the conforming mesher only
+      "mesh two.obj --conforming --background two.veg",  // the conforming mesher has no background
+      "mesh two.obj --conforming --method csg",
+      "mesh two.obj --conforming --radius-edge 0.5",     // below 1
+      "mesh two.obj --conforming --edge-length -1",
+      "mesh two.obj --conforming --min-dihedral 40",
       "mesh two.obj --resolution 151",  // beyond the 3D grid limit
       "deform two.obj --handles h.json -o d --resolution 151",  // the same limit, before any work
       "weights two.obj --handles h.json -o w.vtu --resolution 151",
@@ -605,6 +680,7 @@ TEST_F(Cli3Test, UsageErrorsExitWith64) {
       "mesh two.obj --all --immersion 0",
       "mesh square.txt --all",          // 3D only
       "mesh square.txt --threads 2",
+      "mesh square.txt --conforming --edge-length 0.1",  // 3D sizing
   };
   for (const std::string& args : bad) {
     const Outcome r = run(args);

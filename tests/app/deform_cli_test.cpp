@@ -61,6 +61,31 @@ TEST_F(DeformCli, FemAndWeightsRun) {
   EXPECT_NE(read("w.vtu").find("Name=\"weight_1\""), std::string::npos);
 }
 
+TEST_F(DeformCli, ConformingMeshesPullApartToo) {
+  // The conforming meshes (2D: the curve as constraints; 3D: TetGen's tets bounded by the cut
+  // mesh) deform like the background ones: the unglued mesh pulls the overlapping parts apart.
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  write("h.json", kPullApart);
+  const Outcome flat = run("deform fig7.txt --handles h.json -o flat --frames 2 --resolution 20 --conforming");
+  ASSERT_EQ(flat.code, 0) << flat.output;
+  EXPECT_EQ(last_crossings(flat.output), 0) << flat.output;
+  ASSERT_EQ(run("generate two-tori 10 -o tori.obj").code, 0);
+  write("t.json", R"({"handles": [
+    {"box": {"min": [-10, -10, -10], "max": [-1.0, 10, 10]}, "displacement": [-3, 0, 0]},
+    {"box": {"min": [2.0, -10, -10], "max": [10, 10, 10]}, "displacement": [3, 0, 0]}]})");
+  const Outcome solid = run("deform tori.obj --handles t.json -o solid --frames 2 --conforming --edge-length 0.3");
+  ASSERT_EQ(solid.code, 0) << solid.output;
+  EXPECT_EQ(last_crossings(solid.output), 0) << solid.output;
+  EXPECT_TRUE(exists("solid/mesh_002.vtu"));
+  const Outcome glued = run("deform tori.obj --handles t.json -o glued --frames 2 --conforming --edge-length 0.3 --glued");
+  ASSERT_EQ(glued.code, 0) << glued.output;
+  EXPECT_GT(last_crossings(glued.output), 0) << glued.output;
+  const Outcome weights = run("weights tori.obj --handles t.json -o w.vtu --conforming --edge-length 0.3");
+  ASSERT_EQ(weights.code, 0) << weights.output;
+  EXPECT_EQ(run("deform tori.obj --handles t.json -o x --conforming --background b.veg").code, 64);
+  EXPECT_EQ(run("deform tori.obj --handles t.json -o x --edge-length 0.3").code, 64);
+}
+
 TEST_F(DeformCli, BadHandleFilesExit2WithAMessage) {
   ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
   write("bad.json", "{\"handles\": [");

@@ -1,0 +1,708 @@
+// Conforming immersed tet meshes (dim3/conforming_mesh3.h): the rounded cut mesh checked
+// exactly, TetGen's constrained Delaunay tetrahedralization with the surface preserved, exact
+// region labels, and the dimension-generic duplicate-and-connect driver (core/unglue.h) as in
+// 2D conforming meshing (dim2/mesh2.cpp): every tet lies in one region, so each tet is one local
+// region; tets sharing a face off the surface are connected per node, tets sharing a cut
+// triangle are connected through the immersion-graph edges across its patch (declined: glued;
+// owned: no edge, the owner's copy keeps the face as boundary).
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+
+// TetGen's library interface (Debian's libtet is built with TETLIBRARY: errors are thrown ints).
+#define TETLIBRARY
+#include <tetgen.h>
+#undef REAL
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+
+#include "core/union_find.h"
+#include "core/unglue.h"
+#include "dim3/conforming_mesh3.h"
+#include "dim3/mesh3_detail.h"
+
+namespace imm::dim3 {
+
+namespace {
+
+using Epick = CGAL::Exact_predicates_inexact_constructions_kernel;
+using P3 = Epick::Point_3;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr const char* kStage = "conforming-mesh";
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+P3 point(const Point3& p) { return {p[0], p[1], p[2]}; }
+
+/// A face as its three vertex ids, sorted (the key of face maps).
+struct FaceKey {
+  std::array<std::int32_t, 3> v;
+  bool operator==(const FaceKey&) const = default;
+};
+struct FaceHash {
+  std::size_t operator()(const FaceKey& k) const {
+    std::uint64_t h = 1469598103934665603ull;
+    for (std::int32_t x : k.v) h = (h ^ static_cast<std::uint32_t>(x)) * 1099511628211ull;
+    return static_cast<std::size_t>(h);
+  }
+};
+FaceKey key_of(std::int32_t a, std::int32_t b, std::int32_t c) {
+  FaceKey k{{a, b, c}};
+  std::sort(k.v.begin(), k.v.end());
+  return k;
+}
+
+/// The rounded cut mesh as a piecewise linear complex: compact point ids, one facet per cut
+/// triangle (oriented like it).
+struct Plc {
+  std::vector<P3> points;
+  std::vector<std::uint32_t> geometric;          ///< per PLC point: the complex's geometric point
+  std::vector<std::array<std::int32_t, 3>> facets;  ///< per cut triangle
+};
+
+Plc make_plc(const Complex3& complex) {
+  Plc plc;
+  std::vector<std::int32_t> index(complex.points.size(), -1);
+  plc.facets.reserve(complex.cut_triangles.size());
+  for (const Triangle& t : complex.cut_triangles) {
+    std::array<std::int32_t, 3> f{};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t g = complex.cut_point[t[k]];
+      if (index[g] < 0) {
+        index[g] = static_cast<std::int32_t>(plc.points.size());
+        plc.points.push_back(point(complex.points[g]));
+        plc.geometric.push_back(g);
+      }
+      f[k] = index[g];
+    }
+    plc.facets.push_back(f);
+  }
+  return plc;
+}
+
+Defect defect(DefectKind kind, std::string message) {
+  Defect d;
+  d.kind = kind;
+  d.stage = kStage;
+  d.message = std::move(message);
+  return d;
+}
+
+std::vector<double> coords(const P3& p) { return {p.x(), p.y(), p.z()}; }
+
+/// True when direction a - v lies in the closed wedge at v spanned by c - v and d - v (all four
+/// points coplanar, v, c, d not collinear): exact coplanar orientations.
+bool in_wedge(const P3& v, const P3& c, const P3& d, const P3& a) {
+  const CGAL::Orientation o1 = CGAL::coplanar_orientation(v, c, d, a);
+  const CGAL::Orientation o2 = CGAL::coplanar_orientation(v, d, c, a);
+  return o1 != CGAL::NEGATIVE && o2 != CGAL::NEGATIVE;
+}
+
+/// Whether closed triangles t1 and t2 of the PLC meet outside the vertices and edge they share
+/// (exact on the doubles). @pre neither is flat; they are different triangles.
+bool improper_contact(const Plc& plc, const std::array<std::int32_t, 3>& t1, const std::array<std::int32_t, 3>& t2) {
+  std::array<int, 3> shared_in_1{-1, -1, -1};  // for each corner of t1: its corner in t2, or -1
+  int shared = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (t1[i] == t2[j]) shared_in_1[i] = j, ++shared;
+  const auto P = [&](std::int32_t v) -> const P3& { return plc.points[static_cast<std::size_t>(v)]; };
+  const Epick::Triangle_3 tri1(P(t1[0]), P(t1[1]), P(t1[2]));
+  const Epick::Triangle_3 tri2(P(t2[0]), P(t2[1]), P(t2[2]));
+  if (shared == 0) return CGAL::do_intersect(tri1, tri2);
+  if (shared >= 3) return true;  // the same triangle twice
+  if (shared == 2) {
+    // Common edge (a, b); c of t1 and d of t2 are the other corners. Two non-coplanar triangles
+    // on one edge meet only on it; coplanar ones overlap when c and d are on the same side.
+    int i = 0, j = 0;
+    while (shared_in_1[i] >= 0) ++i;
+    for (int k = 0; k < 3; ++k)
+      if (t2[k] != t1[0] && t2[k] != t1[1] && t2[k] != t1[2]) j = k;
+    const int a = (i + 1) % 3, b = (i + 2) % 3;
+    const P3& pa = P(t1[a]);
+    const P3& pb = P(t1[b]);
+    const P3& c = P(t1[i]);
+    const P3& d = P(t2[j]);
+    if (CGAL::orientation(pa, pb, c, d) != CGAL::COPLANAR) return false;
+    return CGAL::coplanar_orientation(pa, pb, c, d) != CGAL::NEGATIVE;
+  }
+  // One common vertex v: t1 = (v, a, b), t2 = (v, c, d). Their intersection is convex and
+  // contains v; it holds another point exactly when some edge of one triangle meets the other
+  // beyond v: the far edges by exact segment-triangle tests, the edges at v only when they lie in
+  // the other triangle's plane and point into its wedge at v.
+  int i = 0;
+  while (shared_in_1[i] < 0) ++i;
+  const int j = shared_in_1[i];
+  const P3& v = P(t1[i]);
+  const P3& a = P(t1[(i + 1) % 3]);
+  const P3& b = P(t1[(i + 2) % 3]);
+  const P3& c = P(t2[(j + 1) % 3]);
+  const P3& d = P(t2[(j + 2) % 3]);
+  if (CGAL::do_intersect(Epick::Segment_3(a, b), tri2)) return true;
+  if (CGAL::do_intersect(Epick::Segment_3(c, d), tri1)) return true;
+  for (const P3* e : {&a, &b})
+    if (CGAL::orientation(v, c, d, *e) == CGAL::COPLANAR && in_wedge(v, c, d, *e)) return true;
+  for (const P3* e : {&c, &d})
+    if (CGAL::orientation(v, a, b, *e) == CGAL::COPLANAR && in_wedge(v, a, b, *e)) return true;
+  return false;
+}
+
+/// The exact checks of the rounded cut mesh (see the header). `source[x]`: the input triangle of
+/// facet x, for messages. Defects go to `report`.
+void check_plc(const Plc& plc, const std::vector<std::uint32_t>& source_triangle, ValidationReport& report) {
+  // Distinct exact points that round to one double point.
+  {
+    std::vector<std::uint32_t> order(plc.points.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return plc.points[x] < plc.points[y]; });
+    for (std::size_t k = 1; k < order.size(); ++k) {
+      if (plc.points[order[k]] != plc.points[order[k - 1]]) continue;
+      Defect d = defect(DefectKind::OutOfRange,
+                        "two intersection points of the cut mesh round to the same double point " +
+                            format_point({plc.points[order[k]].x(), plc.points[order[k]].y(), plc.points[order[k]].z()}) +
+                            ": the intersection curves have features below double precision; the conforming mesher "
+                            "(TetGen) takes doubles");
+      d.points = {coords(plc.points[order[k]])};
+      report.add(std::move(d));
+    }
+  }
+  const auto P = [&](std::int32_t v) -> const P3& { return plc.points[static_cast<std::size_t>(v)]; };
+  const auto source = [&](std::size_t x) { return static_cast<long>(source_triangle[x]); };
+  for (std::size_t x = 0; x < plc.facets.size(); ++x) {
+    const auto& f = plc.facets[x];
+    if (!CGAL::collinear(P(f[0]), P(f[1]), P(f[2]))) continue;
+    Defect d = defect(DefectKind::DegenerateFacet,
+                      "cut triangle " + std::to_string(x) + " of input triangle " + std::to_string(source(x)) +
+                          " is flat once its intersection points are rounded to doubles; the conforming mesher "
+                          "(TetGen) takes doubles");
+    d.facets = {source(x)};
+    d.points = {coords(P(f[0])), coords(P(f[1])), coords(P(f[2]))};
+    report.add(std::move(d));
+  }
+  if (!report.ok()) return;
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+  std::vector<Box> boxes;
+  boxes.reserve(plc.facets.size());
+  for (std::uint32_t x = 0; x < plc.facets.size(); ++x) {
+    const auto& f = plc.facets[x];
+    boxes.emplace_back(P(f[0]).bbox() + P(f[1]).bbox() + P(f[2]).bbox(), x);
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> bad;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& b1, const Box& b2) {
+    if (improper_contact(plc, plc.facets[b1.info()], plc.facets[b2.info()]))
+      bad.emplace_back(std::min(b1.info(), b2.info()), std::max(b1.info(), b2.info()));
+  });
+  std::sort(bad.begin(), bad.end());
+  for (const auto& [x, y] : bad) {
+    Defect d = defect(DefectKind::OutOfRange,
+                      "cut triangles " + std::to_string(x) + " and " + std::to_string(y) + " (of input triangles " +
+                          std::to_string(source(x)) + " and " + std::to_string(source(y)) +
+                          ") cross or overlap once the intersection points are rounded to doubles (exact test on the "
+                          "rounded points): the cut mesh has features below double precision there; the conforming "
+                          "mesher (TetGen) takes doubles");
+    d.facets = {source(x), source(y)};
+    report.add(std::move(d));
+  }
+}
+
+std::string format_number(double x) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.17g", x);
+  return buffer;
+}
+
+std::string tetgen_error(int code) {
+  switch (code) {
+    case 1: return "out of memory";
+    case 2: return "internal error";
+    case 3: return "it found two facets that intersect";
+    case 4: return "it found a very small input feature (below its tolerance)";
+    case 5: return "it found two very close input facets";
+    case 10: return "input error";
+    default: return "error code " + std::to_string(code);
+  }
+}
+
+/// TetGen's output: points (x, y, z each) and tets (4 point ids each), or why it failed.
+struct TetgenOutput {
+  std::vector<double> points;
+  std::vector<std::int32_t> tets;
+  std::string failure;  ///< empty on success
+};
+
+bool write_all(int fd, const void* data, std::size_t bytes) {
+  const char* p = static_cast<const char*>(data);
+  while (bytes > 0) {
+    const ssize_t n = ::write(fd, p, bytes);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    p += n;
+    bytes -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+/// Runs TetGen in a child process. TetGen 1.5 frees its memory twice when it stops on an error
+/// in library mode (terminatetetgen() frees, then the unwinding destructor frees again): the
+/// process would die of SIGSEGV on every bad input. The child sends the mesh through a pipe;
+/// its death, exit code and printed messages become the failure text instead.
+TetgenOutput run_tetgen(tetgenio& in, std::string switches) {
+  TetgenOutput result;
+  std::fflush(nullptr);
+  std::FILE* messages = std::tmpfile();
+  int fds[2];
+  if (::pipe(fds) != 0) {
+    result.failure = "cannot create a pipe for TetGen";
+    if (messages) std::fclose(messages);
+    return result;
+  }
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    result.failure = "cannot start a process for TetGen";
+    ::close(fds[0]);
+    ::close(fds[1]);
+    if (messages) std::fclose(messages);
+    return result;
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    if (messages) {
+      ::dup2(::fileno(messages), 1);
+      ::dup2(::fileno(messages), 2);
+    }
+    std::setvbuf(stdout, nullptr, _IONBF, 0);
+    tetgenio out;
+    int code = 0;
+    try {
+      tetrahedralize(switches.data(), &in, &out);
+    } catch (int c) {
+      code = c;
+    }
+    std::int64_t header[3] = {code, out.numberofpoints, code == 0 ? out.numberoftetrahedra : 0};
+    if (code == 0 && out.numberofcorners != 4) header[0] = -1;
+    bool ok = write_all(fds[1], header, sizeof header);
+    if (ok && header[0] == 0) {
+      ok = write_all(fds[1], out.pointlist, sizeof(double) * 3 * static_cast<std::size_t>(out.numberofpoints)) &&
+           write_all(fds[1], out.tetrahedronlist, sizeof(int) * 4 * static_cast<std::size_t>(out.numberoftetrahedra));
+    }
+    ::close(fds[1]);
+    ::_exit(ok ? 0 : 1);
+  }
+  ::close(fds[1]);
+  std::vector<char> bytes;
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    bytes.insert(bytes.end(), buffer, buffer + n);
+  }
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  std::string printed;
+  if (messages) {
+    std::rewind(messages);
+    char line[512];
+    while (std::fgets(line, sizeof line, messages)) printed += line;
+    std::fclose(messages);
+    while (!printed.empty() && std::isspace(static_cast<unsigned char>(printed.back()))) printed.pop_back();
+    if (printed.size() > 600) printed = "..." + printed.substr(printed.size() - 600);
+    for (char& ch : printed)
+      if (ch == '\n') ch = ' ';
+  }
+  const auto fail = [&](std::string why) {
+    result.failure = std::move(why) + (printed.empty() ? "" : " (TetGen: " + printed + ")");
+    return result;
+  };
+  if (WIFSIGNALED(status))
+    return fail("TetGen crashed (signal " + std::to_string(WTERMSIG(status)) +
+                "; TetGen 1.5 crashes when it stops on an error)");
+  std::int64_t header[3] = {0, 0, 0};
+  if (bytes.size() < sizeof header) return fail("TetGen's process ended without a result");
+  std::memcpy(header, bytes.data(), sizeof header);
+  if (header[0] != 0) return fail(header[0] < 0 ? "TetGen returned tets with other than 4 corners" : tetgen_error(static_cast<int>(header[0])));
+  const std::size_t points = static_cast<std::size_t>(header[1]), tets = static_cast<std::size_t>(header[2]);
+  if (bytes.size() != sizeof header + sizeof(double) * 3 * points + sizeof(int) * 4 * tets)
+    return fail("TetGen's result was cut short");
+  result.points.resize(3 * points);
+  result.tets.resize(4 * tets);
+  std::memcpy(result.points.data(), bytes.data() + sizeof header, sizeof(double) * 3 * points);
+  std::memcpy(result.tets.data(), bytes.data() + sizeof header + sizeof(double) * 3 * points, sizeof(int) * 4 * tets);
+  return result;
+}
+
+/// Dihedral angles (degrees) and radius-edge ratio of a tet, in doubles (report only).
+void tet_quality(const std::array<Point3, 4>& p, std::array<double, 6>& angles, double& radius_edge) {
+  using V = std::array<double, 3>;
+  const auto sub = [](const Point3& a, const Point3& b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  const auto cross = [](const V& a, const V& b) {
+    return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  const auto dot = [](const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  // Face k is opposite corner k; its outward normal. The dihedral angle at the edge shared by
+  // faces i and j is pi minus the angle between their outward normals.
+  std::array<V, 4> normal{};
+  for (int k = 0; k < 4; ++k) {
+    const int a = (k + 1) % 4, b = (k + 2) % 4, c = (k + 3) % 4;
+    V n = cross(sub(p[b], p[a]), sub(p[c], p[a]));
+    if (dot(n, sub(p[k], p[a])) > 0) n = {-n[0], -n[1], -n[2]};
+    const double len = std::sqrt(dot(n, n));
+    normal[k] = {n[0] / len, n[1] / len, n[2] / len};
+  }
+  int e = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      angles[e++] = 180.0 - std::acos(std::clamp(dot(normal[i], normal[j]), -1.0, 1.0)) * 180.0 / M_PI;
+  double shortest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      const V d = sub(p[i], p[j]);
+      shortest = std::min(shortest, std::sqrt(dot(d, d)));
+    }
+  const P3 centre = CGAL::circumcenter(point(p[0]), point(p[1]), point(p[2]), point(p[3]));
+  const double radius = std::sqrt(CGAL::squared_distance(centre, point(p[0])));
+  radius_edge = radius / shortest;
+}
+
+double median(std::vector<double>& values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+}  // namespace
+
+ValidationReport check_rounded_cut_mesh(const std::vector<Point3>& points,
+                                        const std::vector<std::array<std::int32_t, 3>>& triangles,
+                                        const std::vector<std::uint32_t>& source_triangle) {
+  IMM_ASSERT(source_triangle.size() == triangles.size(), "one source per triangle");
+  Plc plc;
+  for (const Point3& p : points) plc.points.push_back(point(p));
+  plc.facets = triangles;
+  ValidationReport report;
+  check_plc(plc, source_triangle, report);
+  return report;
+}
+
+ConformingResult3 mesh_conforming3(const Complex3& complex, const Immersion& immersion,
+                                   const ConformingOptions3& options, std::size_t input_vertices,
+                                   std::size_t input_triangles) {
+  ConformingResult3 result;
+  ConformingStats3& stats = result.stats;
+  const auto log = [&](const std::string& message) {
+    if (options.progress) options.progress(message);
+  };
+  IMM_ASSERT(options.edge_length > 0 && std::isfinite(options.edge_length), "edge length must be positive");
+  IMM_ASSERT(options.radius_edge == 0.0 || options.radius_edge >= 1.0, "radius-edge bound below 1");
+  input_vertices = std::min(input_vertices, complex.surface.vertex_count());
+  input_triangles = std::min(input_triangles, complex.surface.triangle_count());
+  const CellComplex<3>& cc = complex.complex;
+
+  // 1. The rounded cut mesh, checked exactly.
+  auto start = std::chrono::steady_clock::now();
+  const Plc plc = make_plc(complex);
+  stats.plc_points = plc.points.size();
+  stats.plc_triangles = plc.facets.size();
+  check_plc(plc, complex.cut_triangle_source, result.report);
+  stats.seconds_checks = seconds_since(start);
+  if (!result.report.ok()) return result;
+  log("conforming: " + std::to_string(plc.facets.size()) + " cut triangles, " + std::to_string(plc.points.size()) +
+      " points (rounded cut mesh checked exactly)");
+
+  // 2. TetGen: constrained Delaunay tetrahedralization of the PLC, surface preserved.
+  start = std::chrono::steady_clock::now();
+  tetgenio in;
+  in.firstnumber = 0;
+  in.numberofpoints = static_cast<int>(plc.points.size());
+  in.pointlist = new double[plc.points.size() * 3];
+  for (std::size_t v = 0; v < plc.points.size(); ++v) {
+    in.pointlist[3 * v] = plc.points[v].x();
+    in.pointlist[3 * v + 1] = plc.points[v].y();
+    in.pointlist[3 * v + 2] = plc.points[v].z();
+  }
+  in.numberoffacets = static_cast<int>(plc.facets.size());
+  in.facetlist = new tetgenio::facet[plc.facets.size()];
+  for (std::size_t x = 0; x < plc.facets.size(); ++x) {
+    tetgenio::facet& f = in.facetlist[x];
+    tetgenio::init(&f);
+    f.numberofpolygons = 1;
+    f.polygonlist = new tetgenio::polygon[1];
+    tetgenio::init(&f.polygonlist[0]);
+    f.polygonlist[0].numberofvertices = 3;
+    f.polygonlist[0].vertexlist = new int[3];
+    for (int k = 0; k < 3; ++k) f.polygonlist[0].vertexlist[k] = plc.facets[x][k];
+  }
+  // -p PLC, -Y keep the surface (no Steiner point on it), -M merge neither coplanar facets nor
+  // close vertices (TetGen's tolerance-based merging would change the complex), -J keep every
+  // point (input point ids stay output ids), -z number from 0, -Q quiet, -F no face/edge lists,
+  // -q quality bound, -a volume bound.
+  std::string switches = "pYMJzQF";
+  if (options.radius_edge > 0) {
+    switches += "q" + format_number(options.radius_edge);
+    if (options.min_dihedral > 0) switches += "/" + format_number(options.min_dihedral);
+  }
+  const double h = options.edge_length;
+  switches += "a" + format_number(h * h * h / (6.0 * std::sqrt(2.0)));
+  TetgenOutput out = run_tetgen(in, switches);
+  if (!out.failure.empty()) {
+    result.report.add(defect(DefectKind::OutOfRange, "TetGen (-" + switches +
+                                                         ") could not tetrahedralize the rounded cut mesh: " + out.failure));
+    return result;
+  }
+  stats.seconds_tetgen = seconds_since(start);
+  stats.tetgen_points = out.points.size() / 3;
+  stats.tetgen_tets = out.tets.size() / 4;
+  log("conforming: TetGen -" + switches + ": " + std::to_string(stats.tetgen_tets) + " tets, " +
+      std::to_string(stats.tetgen_points) + " points");
+
+  // 3. Exact labels. Every check below is on TetGen's output doubles, with exact predicates.
+  start = std::chrono::steady_clock::now();
+  const auto fail = [&](const std::string& message) {
+    result.report.add(defect(DefectKind::OutOfRange, message));
+    result.mesh = {};
+    result.embedding.clear();
+    result.tetrahedralization = {};
+    result.source_tet.clear();
+    return result;
+  };
+  std::vector<Point3> vertices(stats.tetgen_points);
+  for (std::size_t v = 0; v < vertices.size(); ++v)
+    vertices[v] = {out.points[3 * v], out.points[3 * v + 1], out.points[3 * v + 2]};
+  for (std::size_t v = 0; v < plc.points.size(); ++v)
+    if (v >= vertices.size() || point(vertices[v]) != plc.points[v])
+      return fail("TetGen moved or dropped cut-mesh point " + std::to_string(v) + " " +
+                  format_point({plc.points[v].x(), plc.points[v].y(), plc.points[v].z()}) +
+                  (v < vertices.size() ? " (now " + format_point(vertices[v]) + ")" : ""));
+  const auto VP = [&](std::int32_t v) { return point(vertices[static_cast<std::size_t>(v)]); };
+  std::vector<std::array<std::int32_t, 4>> tets(stats.tetgen_tets);
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    auto& tet = tets[t];
+    for (int k = 0; k < 4; ++k) tet[k] = out.tets[4 * t + k];
+    for (int k = 0; k < 4; ++k)
+      if (tet[k] < 0 || static_cast<std::size_t>(tet[k]) >= vertices.size()) return fail("TetGen tet " + std::to_string(t) + " has a bad vertex");
+    const CGAL::Orientation o = CGAL::orientation(VP(tet[0]), VP(tet[1]), VP(tet[2]), VP(tet[3]));
+    if (o == CGAL::ZERO) return fail("TetGen returned a flat tet (" + std::to_string(t) + ")");
+    if (o == CGAL::NEGATIVE) std::swap(tet[2], tet[3]);
+  }
+  // Surface faces: the cut triangles by their sorted PLC points.
+  std::unordered_map<FaceKey, std::uint32_t, FaceHash> facet_of;
+  facet_of.reserve(plc.facets.size() * 2);
+  for (std::uint32_t x = 0; x < plc.facets.size(); ++x)
+    facet_of.emplace(key_of(plc.facets[x][0], plc.facets[x][1], plc.facets[x][2]), x);
+  // Faces of the tets: (tet, corner opposite) pairs per face.
+  std::unordered_map<FaceKey, std::array<std::uint32_t, 2>, FaceHash> faces;
+  faces.reserve(tets.size() * 3);
+  for (std::uint32_t t = 0; t < tets.size(); ++t)
+    for (int k = 0; k < 4; ++k) {
+      const auto& tet = tets[t];
+      auto [it, inserted] = faces.try_emplace(key_of(tet[(k + 1) % 4], tet[(k + 2) % 4], tet[(k + 3) % 4]),
+                                              std::array<std::uint32_t, 2>{t, kNone});
+      if (!inserted) {
+        if (it->second[1] != kNone) return fail("a face of TetGen's mesh has three tets");
+        it->second[1] = t;
+      }
+    }
+  // Per cut triangle: the tet on its negative (inner) side and on its positive side.
+  std::vector<std::array<std::uint32_t, 2>> facet_tets(plc.facets.size(), {kNone, kNone});  // {inner, outer}
+  UnionFind same(tets.size());
+  std::vector<RegionId> seen(tets.size());  // a region a tet of the component was seen in
+  std::vector<RegionId> component_region;
+  bool conflict = false;
+  std::vector<std::pair<std::uint32_t, RegionId>> sightings;  // (tet, region) from the surface and the hull
+  for (const auto& [key, pair] : faces) {
+    const auto found = facet_of.find(key);
+    if (found == facet_of.end()) {
+      if (pair[1] != kNone) {
+        same.unite(pair[0], pair[1]);
+      } else {
+        // A face of TetGen's mesh on no cut triangle and with one tet: the convex hull (the carved
+        // exterior stops at the surface only), so the tet lies in the unbounded region.
+        sightings.emplace_back(pair[0], RegionId(0));
+      }
+      continue;
+    }
+    const std::uint32_t x = found->second;
+    const auto& f = plc.facets[x];
+    const PatchSides& sides = cc.sides(complex.cut_triangle_patch[x]);
+    for (std::uint32_t t : pair) {
+      if (t == kNone) continue;
+      // The tet's corner off the face decides its side of the oriented cut triangle.
+      std::int32_t apex = -1;
+      for (std::int32_t v : tets[t])
+        if (v != key.v[0] && v != key.v[1] && v != key.v[2]) apex = v;
+      const CGAL::Orientation o = CGAL::orientation(VP(f[0]), VP(f[1]), VP(f[2]), VP(apex));
+      IMM_ASSERT(o != CGAL::ZERO, "a positive tet is flat on its face");
+      const bool positive = o == CGAL::POSITIVE;
+      if (facet_tets[x][positive ? 1 : 0] != kNone) return fail("two tets on one side of cut triangle " + std::to_string(x));
+      facet_tets[x][positive ? 1 : 0] = t;
+      sightings.emplace_back(t, positive ? sides.positive : sides.negative);
+    }
+  }
+  for (std::uint32_t x = 0; x < plc.facets.size(); ++x)
+    if (facet_tets[x][0] == kNone)
+      return fail("cut triangle " + std::to_string(x) + " is not a face of TetGen's mesh with a tet on its inner side");
+  std::vector<RegionId> root_region(tets.size());
+  for (const auto& [t, region] : sightings) {
+    RegionId& r = root_region[same.find(t)];
+    if (r.is_valid() && r != region) conflict = true;
+    r = region;
+  }
+  if (conflict)
+    return fail("a component of TetGen's tets lies on the sides of two different regions of the cut mesh: rounding the "
+                "intersection points to doubles changed how the sheets meet (features below double precision)");
+  std::vector<RegionId> region(tets.size());
+  for (std::uint32_t t = 0; t < tets.size(); ++t) {
+    const std::uint32_t root = same.find(t);
+    if (root == t) ++stats.components;
+    if (!root_region[root].is_valid()) return fail("a component of TetGen's tets touches neither the surface nor the hull");
+    region[t] = root_region[root];
+  }
+
+  // 4. Atoms (one local region per tet), connections, duplicate and connect.
+  std::vector<std::uint32_t> first(tets.size() + 1);
+  std::iota(first.begin(), first.end(), 0u);
+  AtomExpansion<3> expansion(cc, immersion, first, region, tets);
+  for (const auto& [key, pair] : faces) {
+    if (pair[1] == kNone) continue;
+    const std::array<std::int32_t, 3> face = key.v;
+    const auto found = facet_of.find(key);
+    if (found == facet_of.end()) {
+      expansion.connect(pair[0], pair[1], face);
+    } else {
+      const std::uint32_t x = found->second;
+      expansion.connect_across(facet_tets[x][0], facet_tets[x][1], complex.cut_triangle_patch[x], face);
+    }
+  }
+  const UnglueInput<3>& input = expansion.input();
+  const UnglueResult<3> unglued = unglue<3>(input);
+  const std::vector<char> helper_node = detail::helper_nodes(complex, immersion, input_triangles);
+  std::vector<std::uint32_t> copy_index(unglued.copies.size(), kNone);
+  std::vector<std::int32_t> vertex_index(unglued.vertex_source.size(), -1);
+  TetMesh& mesh = result.mesh;
+  std::vector<std::int32_t> vertex_source;  // per output vertex: its TetGen point
+  stats.copies_per_cell.assign(cc.cell_count(), 0);
+  for (std::size_t c = 0; c < unglued.copies.size(); ++c) {
+    if (helper_node[unglued.copy_node[c].index()]) {
+      ++stats.helper_tets;
+      continue;
+    }
+    copy_index[c] = static_cast<std::uint32_t>(mesh.tets.size());
+    Tet tet{};
+    for (int k = 0; k < 4; ++k) {
+      std::int32_t& v = vertex_index[static_cast<std::size_t>(unglued.copies[c][k])];
+      if (v < 0) {
+        v = static_cast<std::int32_t>(mesh.vertices.size());
+        vertex_source.push_back(unglued.vertex_source[unglued.copies[c][k]]);
+        mesh.vertices.push_back(vertices[static_cast<std::size_t>(vertex_source.back())]);
+      }
+      tet[k] = v;
+    }
+    mesh.tets.push_back(tet);
+    mesh.reference.push_back(unglued.copy_node[c].value());
+    result.source_tet.push_back(static_cast<int>(unglued.copy_element[c]));
+    ++stats.copies_per_cell[immersion.layout.cell(unglued.copy_node[c]).index()];
+  }
+  result.tetrahedralization.vertices = vertices;
+  result.tetrahedralization.tets.reserve(tets.size());
+  result.tetrahedralization.reference.reserve(tets.size());
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    result.tetrahedralization.tets.push_back({tets[t][0], tets[t][1], tets[t][2], tets[t][3]});
+    result.tetrahedralization.reference.push_back(region[t].value());
+  }
+  stats.output_tets = mesh.tets.size();
+  stats.output_vertices = mesh.vertices.size();
+
+  // 5. Embedding: each user vertex is a corner of the tet on the inner side of a cut triangle
+  // around it, in the copy of its patch's owner (that copy's face is the boundary there).
+  result.embedding.resize(input_vertices);
+  std::vector<char> done(input_vertices, 0);
+  std::vector<std::int32_t> plc_index(complex.points.size(), -1);
+  for (std::size_t v = 0; v < plc.geometric.size(); ++v) plc_index[plc.geometric[v]] = static_cast<std::int32_t>(v);
+  for (std::uint32_t x = 0; x < plc.facets.size(); ++x) {
+    if (complex.cut_triangle_source[x] >= input_triangles) continue;
+    for (std::int32_t v : plc.facets[x]) {
+      const std::uint32_t g = plc.geometric[static_cast<std::size_t>(v)];
+      if (g >= input_vertices || done[g]) continue;  // geometric points of input vertices are their ids
+      const std::uint32_t tet = facet_tets[x][0];
+      const std::uint32_t atom = expansion.atom(tet, immersion.owner[complex.cut_triangle_patch[x]]);
+      const std::uint32_t copy = copy_index[unglued.atom_copy[atom]];
+      IMM_ASSERT(copy != kNone, "a user vertex embedded in a helper box's solid");
+      EmbeddedVertex3 e;
+      e.element = static_cast<int>(copy);
+      for (int k = 0; k < 4; ++k) e.weights[k] = tets[tet][k] == v ? 1.0 : 0.0;
+      result.embedding[g] = e;
+      done[g] = 1;
+    }
+  }
+  double worst = 0.0;
+  for (std::size_t v = 0; v < input_vertices; ++v) {
+    if (!done[v]) {
+      stats.unused_vertices.push_back(v);
+      continue;
+    }
+    const EmbeddedVertex3& e = result.embedding[v];
+    const Tet& t = mesh.tets[static_cast<std::size_t>(e.element)];
+    for (int k = 0; k < 4; ++k)
+      if (e.weights[k] == 1.0) {
+        const Point3& p = mesh.vertices[static_cast<std::size_t>(t[k])];
+        const Point3& q = complex.surface.vertices[v];
+        worst = std::max(worst, std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]));
+      }
+  }
+  stats.embedding_error = worst;
+
+  // 6. Quality (report only).
+  std::vector<double> dihedral, ratio;
+  dihedral.reserve(mesh.tets.size() * 6);
+  ratio.reserve(mesh.tets.size());
+  stats.min_dihedral = 180.0;
+  stats.sliver_bound = options.min_dihedral > 0 ? options.min_dihedral : 5.0;
+  for (const Tet& t : mesh.tets) {
+    std::array<Point3, 4> p{};
+    for (int k = 0; k < 4; ++k) p[k] = mesh.vertices[static_cast<std::size_t>(t[k])];
+    std::array<double, 6> angles{};
+    double re = 0.0;
+    tet_quality(p, angles, re);
+    for (double a : angles) {
+      dihedral.push_back(a);
+      stats.min_dihedral = std::min(stats.min_dihedral, a);
+    }
+    ratio.push_back(re);
+    if (*std::min_element(angles.begin(), angles.end()) < stats.sliver_bound) {
+      ++stats.slivers;
+      int on_surface = 0;
+      for (int k = 0; k < 4; ++k)
+        on_surface += static_cast<std::size_t>(vertex_source[static_cast<std::size_t>(t[k])]) < plc.points.size();
+      if (on_surface >= 3) ++stats.slivers_at_surface;
+    }
+    stats.max_radius_edge = std::max(stats.max_radius_edge, re);
+  }
+  if (mesh.tets.empty()) stats.min_dihedral = 0.0;
+  stats.median_dihedral = median(dihedral);
+  stats.median_radius_edge = median(ratio);
+  stats.seconds_assembly = seconds_since(start);
+  log("conforming: " + std::to_string(stats.output_tets) + " output tets, " + std::to_string(stats.output_vertices) +
+      " vertices");
+  return result;
+}
+
+}  // namespace imm::dim3
