@@ -151,15 +151,6 @@ MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
   return result;
 }
 
-std::string format_embedding(const std::vector<EmbeddedVertex>& embedding) {
-  std::ostringstream os;
-  os << std::setprecision(std::numeric_limits<double>::max_digits10);
-  os << embedding.size() << '\n';
-  for (const EmbeddedVertex& e : embedding)
-    os << e.element << ' ' << e.weights[0] << ' ' << e.weights[1] << ' ' << e.weights[2] << '\n';
-  return os.str();
-}
-
 namespace {
 
 std::string node_colour(int node) {

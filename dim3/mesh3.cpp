@@ -267,14 +267,4 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   return result;
 }
 
-std::string format_embedding3(const std::vector<EmbeddedVertex3>& embedding) {
-  std::ostringstream os;
-  os << std::setprecision(std::numeric_limits<double>::max_digits10);
-  os << embedding.size() << '\n';
-  for (const EmbeddedVertex3& e : embedding)
-    os << e.element << ' ' << e.weights[0] << ' ' << e.weights[1] << ' ' << e.weights[2] << ' ' << e.weights[3]
-       << '\n';
-  return os.str();
-}
-
 }  // namespace imm::dim3
