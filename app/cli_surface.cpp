@@ -680,7 +680,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     }
     if (auto path = cl.value("--embedding")) {
       const std::string out = all ? numbered(*path, i) : *path;
-      if (!s.write(out, dim3::format_embedding3(m.embedding), "the embedding of the input vertices"))
+      if (!s.write(out, dim3::format_embedding(m.embedding), "the embedding of the input vertices"))
         return kExitInternalError;
       outputs["embedding"] = out;
     }

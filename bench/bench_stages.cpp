@@ -77,7 +77,7 @@ struct Input3 {
   dim3::Surface surface;
   dim3::Immersed3 immersed;
   dim3::TetMesh background;
-  dim3::detail::LocalRegions3 local;
+  dim3::detail::LocalRegions local;
   [[nodiscard]] const dim3::Complex3& complex() const { return *immersed.build.complex; }
 };
 
@@ -94,7 +94,7 @@ const Input3& input3() {
     in.background = dim3::make_grid_background(dim3::bounding_box(in.complex().surface), kResolution3, 0);
     ValidationReport report;
     bool non_generic = false;
-    in.local = dim3::detail::compute_local_regions3(in.complex(), in.background, {0, 0, 0}, false, 0, true, report,
+    in.local = dim3::detail::compute_local_regions(in.complex(), in.background, {0, 0, 0}, false, 0, true, report,
                                                     non_generic);
     IMM_ASSERT(report.ok() && !non_generic, report.summary());
     return in;
@@ -160,17 +160,17 @@ void BM_Stage_Virtual(benchmark::State& state) {
       }
     }
     state.counters["elements"] = static_cast<double>(in.background.triangles.size());
-    state.counters["cut_elements"] = static_cast<double>(local.cut_triangles);
+    state.counters["cut_elements"] = static_cast<double>(local.cut_elements);
     state.counters["point_locations"] = static_cast<double>(local.point_locations);
   } else {
     const Input3& in = input3();
-    dim3::detail::LocalRegions3 local;
+    dim3::detail::LocalRegions local;
     for (auto _ : state) {
       ValidationReport report;
       bool non_generic = false;
-      local = csg ? dim3::detail::compute_local_regions3_csg(in.complex(), in.background, false, 0, {}, report,
+      local = csg ? dim3::detail::compute_local_regions_csg(in.complex(), in.background, false, 0, {}, report,
                                                              non_generic)
-                  : dim3::detail::compute_local_regions3(in.complex(), in.background, {0, 0, 0}, false, 0, true,
+                  : dim3::detail::compute_local_regions(in.complex(), in.background, {0, 0, 0}, false, 0, true,
                                                          report, non_generic);
       if (!report.ok()) {
         state.SkipWithError(report.summary().c_str());
@@ -178,7 +178,7 @@ void BM_Stage_Virtual(benchmark::State& state) {
       }
     }
     state.counters["elements"] = static_cast<double>(in.background.tets.size());
-    state.counters["cut_elements"] = static_cast<double>(local.cut_tets);
+    state.counters["cut_elements"] = static_cast<double>(local.cut_elements);
     state.counters["polygons"] = static_cast<double>(local.polygons);
     state.counters["side_tests"] = static_cast<double>(local.side_tests);
     state.counters["exact_tets"] = static_cast<double>(local.exact_tets);
@@ -207,7 +207,7 @@ void BM_Stage_Assembly(benchmark::State& state) {
     std::size_t tets = 0;
     for (auto _ : state) {
       dim3::MeshResult3 result;
-      dim3::detail::assemble3(in.complex(), in.immersed.search.immersions.front(), in.background, in.local,
+      dim3::detail::assemble(in.complex(), in.immersed.search.immersions.front(), in.background, in.local,
                               in.immersed.input_vertices, in.immersed.input_triangles, false, result);
       tets = result.mesh.tets.size();
       benchmark::DoNotOptimize(result.mesh.tets.data());

@@ -135,37 +135,4 @@ class AtomExpansion {
 extern template class AtomExpansion<2>;
 extern template class AtomExpansion<3>;
 
-/// Gives every local region its region of the complex, for the element cutting of either
-/// dimension and either method: local regions joined by an input-free adjacency (`free(a)`) lie
-/// in one region; each such component takes the region of any member known from an input piece,
-/// and a component with none is located once, by `locate(lr)` on one member (exact point
-/// location). @return the number of point locations.
-/// @throws InvariantError when two different known regions meet across an input-free adjacency.
-template <class Adjacency, class Free, class Locate>
-std::size_t resolve_local_regions(std::vector<RegionId>& region, const std::vector<Adjacency>& adjacencies,
-                                  const Free& free, const Locate& locate) {
-  const std::size_t n = region.size();
-  UnionFind same(n);
-  for (const Adjacency& a : adjacencies)
-    if (free(a)) same.unite(a.first, a.second);
-  std::vector<RegionId> root_region(n);
-  for (std::uint32_t lr = 0; lr < n; ++lr) {
-    if (!region[lr].is_valid()) continue;
-    RegionId& r = root_region[same.find(lr)];
-    IMM_ASSERT(!r.is_valid() || r == region[lr], "two regions meet across an element face free of the input");
-    r = region[lr];
-  }
-  std::size_t located = 0;
-  for (std::uint32_t lr = 0; lr < n; ++lr) {
-    if (region[lr].is_valid()) continue;
-    RegionId& r = root_region[same.find(lr)];
-    if (!r.is_valid()) {
-      r = locate(lr);
-      ++located;
-    }
-    region[lr] = r;
-  }
-  return located;
-}
-
 }  // namespace imm

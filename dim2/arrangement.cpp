@@ -18,6 +18,7 @@
 #include <unordered_map>
 
 #include "core/perturbation.h"
+#include "core/exact_sum.h"
 #include "dim2/complex2.h"
 #include "dim2/cut_curve.h"
 #include "dim2/kernel.h"
@@ -142,24 +143,6 @@ Point_2 interior_point(FaceHandle f) {
 struct ExactXY {
   Rational x, y;
 };
-
-/// Sum by pairwise reduction. The boundary of a large face passes through many crossings whose
-/// coordinates have distinct denominators, so its exact area has a denominator with O(n) digits;
-/// a left-to-right sum would cost O(n^2) digit operations, the balanced tree O(M(n) log n).
-Rational tree_sum(std::vector<Rational> terms) {
-  if (terms.empty()) return Rational(0);
-  while (terms.size() > 1) {
-    const std::size_t half = terms.size() / 2;
-    for (std::size_t i = 0; i < half; ++i) terms[i] = terms[2 * i] + terms[2 * i + 1];
-    if (terms.size() % 2 == 1) {
-      terms[half] = std::move(terms.back());
-      terms.resize(half + 1);
-    } else {
-      terms.resize(half);
-    }
-  }
-  return std::move(terms.front());
-}
 
 }  // namespace
 

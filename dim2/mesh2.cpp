@@ -17,8 +17,6 @@ namespace imm::dim2 {
 
 namespace {
 
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -36,15 +34,7 @@ void assemble(const Complex2& complex, const Immersion& immersion, const Backgro
   elements.reserve(background.triangles.size());
   for (const auto& t : background.triangles) elements.push_back({t[0], t[1], t[2]});
   AtomExpansion<2> expansion(cc, immersion, local.first, local.region, std::move(elements));
-  for (const auto& fusion : local.fusions) expansion.fuse(fusion.inner, fusion.outer, fusion.patch);
-  for (const auto& adjacency : local.adjacencies) {
-    const std::array<std::int32_t, 2> face = {adjacency.edge[0], adjacency.edge[1]};
-    if (adjacency.patch.is_valid()) {
-      expansion.connect_across(adjacency.first, adjacency.second, adjacency.patch, face);
-    } else {
-      expansion.connect(adjacency.first, adjacency.second, face);
-    }
-  }
+  local.glue(expansion);
   const UnglueInput<2>& input = expansion.input();
   const auto atom_of = [&](std::uint32_t lr, NodeId node) { return expansion.atom(lr, node); };
 
@@ -72,7 +62,7 @@ void assemble(const Complex2& complex, const Immersion& immersion, const Backgro
   result.embedding.resize(local.vertices.size());
   for (std::size_t v = 0; v < local.vertices.size(); ++v) {
     const auto& location = local.vertices[v];
-    if (location.local_region == kNone) continue;
+    if (location.local_region == LocalRegions::kNone) continue;
     const std::uint32_t atom = atom_of(location.local_region, immersion.owner[location.patch]);
     result.embedding[v] = {static_cast<int>(unglued.atom_copy[atom]), location.weights};
   }
@@ -123,9 +113,9 @@ MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
           ? detail::compute_local_regions_csg(complex, background, options.record_contents, result.report)
           : detail::compute_local_regions(complex, background, options.record_contents, result.report);
   result.stats.seconds_virtual = seconds_since(start);
-  result.stats.cut_triangles = local.cut_triangles;
+  result.stats.cut_triangles = local.cut_elements;
   if (!result.report.ok()) return result;
-  log("meshing: " + std::to_string(local.cut_triangles) + " cut triangles");
+  log("meshing: " + std::to_string(local.cut_elements) + " cut triangles");
 
   // 3.-5. Atoms, duplicate and connect, embedding.
   start = std::chrono::steady_clock::now();
@@ -159,15 +149,6 @@ MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
   }
   log("meshing: " + std::to_string(result.mesh.triangles.size()) + " output triangles");
   return result;
-}
-
-std::string format_embedding(const std::vector<EmbeddedVertex>& embedding) {
-  std::ostringstream os;
-  os << std::setprecision(std::numeric_limits<double>::max_digits10);
-  os << embedding.size() << '\n';
-  for (const EmbeddedVertex& e : embedding)
-    os << e.element << ' ' << e.weights[0] << ' ' << e.weights[1] << ' ' << e.weights[2] << '\n';
-  return os.str();
 }
 
 namespace {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/diagnostics.h"
+#include "core/embedding.h"
 #include "core/immersion_graph.h"
 #include "core/unglue.h"
 #include "dim2/complex2.h"
@@ -37,12 +38,9 @@ struct MeshOptions {
   LogCallback progress;
 };
 
-/// Where an input vertex sits in the output: element (0-based, output order) and barycentric
-/// weights of the background triangle that reproduce its position. DESIGN §3 ".emb".
-struct EmbeddedVertex {
-  int element = -1;
-  std::array<double, 3> weights{};
-};
+/// Where an input vertex sits in the output: triangle (0-based, output order) and barycentric
+/// weights of its background triangle that reproduce its position. DESIGN §3 ".emb".
+using EmbeddedVertex = imm::EmbeddedVertex<2>;
 
 struct MeshStats {
   std::size_t background_triangles = 0;  ///< triangles of the background mesh
@@ -105,7 +103,7 @@ TriangleMesh read_medit_2d(const std::string& path, ValidationReport& report);
 /// Medit .mesh text (Dimension 2; each triangle's reference = its graph node).
 std::string format_medit_2d(const TriangleMesh& mesh);
 /// .emb text: number of input vertices, then `element w0 w1 w2` per vertex (max_digits10).
-std::string format_embedding(const std::vector<EmbeddedVertex>& embedding);
+using imm::format_embedding;
 /// SVG of the output mesh pulled apart: the copies of each graph node offset so the ungluing
 /// is visible, coloured by node.
 std::string format_mesh_svg(const Complex2& complex, const Immersion& immersion,

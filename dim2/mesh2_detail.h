@@ -14,6 +14,7 @@
 
 #include "core/diagnostics.h"
 #include "core/ids.h"
+#include "core/local_regions.h"
 #include "core/rational.h"
 #include "dim2/complex2.h"
 #include "dim2/mesh2.h"
@@ -34,44 +35,10 @@ struct Background {
 Background make_background(const Complex2& complex, const MeshOptions& options,
                            ValidationReport& report);
 
-/// The local regions of all background triangles and how they connect. A local region is a
-/// connected component of (closed triangle minus the input); each lies in exactly one region of
-/// the complex. Triangles not cut by the input have exactly one local region.
-struct LocalRegions {
-  /// Local regions of triangle t are first[t] .. first[t+1]-1 (size: triangles + 1).
-  std::vector<std::uint32_t> first;
-  std::vector<RegionId> region;          ///< per local region
-  std::vector<std::uint32_t> triangle;   ///< per local region
-
-  /// Two local regions of one triangle on the two sides of a piece of `patch`.
-  struct Fusion {
-    std::uint32_t inner;  ///< on the patch's negative (inner) side
-    std::uint32_t outer;  ///< on its positive side
-    PatchId patch;
-  };
-  std::vector<Fusion> fusions;  ///< one per (triangle, patch, pair of local regions)
-
-  /// Two local regions of two triangles sharing `edge` whose parts of the edge overlap along a
-  /// positive length. With an invalid `patch` the overlap is free of the input and both lie in
-  /// the same region; otherwise the overlap lies on `patch` (the input runs along the edge):
-  /// `first` is on its inner side, `second` on its outer side.
-  struct Adjacency {
-    std::uint32_t first;
-    std::uint32_t second;
-    PatchId patch;
-    std::array<int, 2> edge;  ///< background vertex ids
-  };
-  std::vector<Adjacency> adjacencies;
-
-  /// Where each input vertex (input order) sits: a local region on the inner side of its patch
-  /// touching the vertex, and exact barycentric coordinates in that triangle, rounded once.
-  struct VertexLocation {
-    std::uint32_t local_region = UINT32_MAX;  ///< UINT32_MAX: not covered by the background
-    PatchId patch;
-    std::array<double, 3> weights{};
-  };
-  std::vector<VertexLocation> vertices;
-
+/// The local regions of all background triangles and how they connect (core/local_regions.h;
+/// elements are triangles, faces are edges, and an adjacency may lie on a patch when the input
+/// runs along a background edge), and the curve pieces inside each triangle.
+struct LocalRegions : imm::LocalRegions<2> {
   /// A curve piece inside a triangle: `local_region` is on its inner side (for diagnostics).
   struct InnerPiece {
     std::uint32_t local_region;
@@ -79,9 +46,6 @@ struct LocalRegions {
     std::size_t input_segment;
   };
   std::vector<InnerPiece> inner_pieces;  ///< filled when `record_pieces` is set
-
-  std::size_t cut_triangles = 0;  ///< triangles with two or more local regions
-  std::size_t point_locations = 0;  ///< exact ray shootings needed for flood components
 };
 
 /// Cuts every background triangle by the input: exact Sutherland–Hodgman clipping of the nearby

@@ -135,10 +135,11 @@ class LocalRegionBuilder {
       const std::size_t begin = next_candidate;
       while (next_candidate < candidates_.size() && candidates_[next_candidate].first == t)
         ++next_candidate;
-      out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
+      out_.begin_element();
       process_triangle(t, begin, next_candidate);
+      out_.end_element();
     }
-    out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
+    out_.finish();
     connect_edges();
     if (!report_.ok()) return std::move(out_);
     resolve_regions();
@@ -240,7 +241,7 @@ class LocalRegionBuilder {
 
   void process_triangle(std::uint32_t t, std::size_t begin, std::size_t end) {
     if (begin == end) {
-      add_local_region(t, RegionId());
+      out_.add_local_region(t);
       return;
     }
     const std::array<Point_2, 3> tri = triangle_points(t);
@@ -255,7 +256,7 @@ class LocalRegionBuilder {
     }
     if (pieces.empty()) {
       // Touched at isolated points at most: the interior is free of the input.
-      add_local_region(t, RegionId());
+      out_.add_local_region(t);
       return;
     }
     for (const Piece& piece : pieces)
@@ -275,9 +276,8 @@ class LocalRegionBuilder {
     for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
       if (f->is_unbounded()) continue;
       f->set_data(faces++);
-      add_local_region(t, RegionId());
+      out_.add_local_region(t);
     }
-    if (faces > 1) ++out_.cut_triangles;
     const std::uint32_t cut = static_cast<std::uint32_t>(cut_edges_.size());
     cut_index_[t] = cut;
     cut_edges_.emplace_back();
@@ -305,10 +305,7 @@ class LocalRegionBuilder {
         inner = CGAL::compare_xy(h->source()->point(), h->target()->point()) ==
                 CGAL::compare_xy(seg.source, seg.target);
         const PatchSides& sides = complex_.complex.sides(patch);
-        const RegionId region = inner ? sides.negative : sides.positive;
-        IMM_ASSERT(!out_.region[lr].is_valid() || out_.region[lr] == region,
-                   "a local region lies on two regions");
-        out_.region[lr] = region;
+        LocalRegions::set_region(out_.region, lr, inner ? sides.negative : sides.positive);
         if (inner) {
           if (edge < 0) {
             const std::uint32_t other = base + static_cast<std::uint32_t>(h->twin()->face()->data());
@@ -342,7 +339,7 @@ class LocalRegionBuilder {
     }
     for (std::uint32_t lr = base; lr < out_.region.size(); ++lr)
       IMM_ASSERT(out_.region[lr].is_valid(), "a face of a cut triangle has no input on its boundary");
-    add_fusions(fusions);
+    out_.add_fusions(std::move(fusions));
   }
 
   /// The crossing of cut segment s's line with the line of background edge (a, b), computed the
@@ -434,7 +431,7 @@ class LocalRegionBuilder {
       chords.push_back({s, entry, exit, at(entry), at(exit)});
     }
     if (chords.empty()) {
-      add_local_region(t, RegionId());
+      out_.add_local_region(t);
       return true;
     }
     // Chord ends around the boundary, counter-clockwise: edge 0, edge 1, edge 2.
@@ -472,13 +469,9 @@ class LocalRegionBuilder {
     std::vector<std::uint32_t> local(n);
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t root = faces.find(static_cast<std::uint32_t>(i));
-      if (face_of_root[root] == kNone) {
-        face_of_root[root] = static_cast<std::uint32_t>(out_.region.size());
-        add_local_region(t, RegionId());
-      }
+      if (face_of_root[root] == kNone) face_of_root[root] = out_.add_local_region(t);
       local[i] = face_of_root[root];
     }
-    ++out_.cut_triangles;
     std::vector<LocalRegions::Fusion> fusions;
     for (std::size_t c = 0; c < chords.size(); ++c) {
       const Chord& chord = chords[c];
@@ -487,16 +480,13 @@ class LocalRegionBuilder {
       const std::uint32_t outer = local[entry_at[c]];
       const std::uint32_t inner = local[exit_at[c]];
       IMM_ASSERT(outer != inner, "a chord with one local region on both sides");
-      for (const auto& [lr, region] : {std::pair{outer, sides.positive}, std::pair{inner, sides.negative}}) {
-        IMM_ASSERT(!out_.region[lr].is_valid() || out_.region[lr] == region,
-                   "a local region lies on two regions");
-        out_.region[lr] = region;
-      }
+      LocalRegions::set_region(out_.region, outer, sides.positive);
+      LocalRegions::set_region(out_.region, inner, sides.negative);
       fusions.push_back({inner, outer, patch});
       if (record_pieces_) out_.inner_pieces.push_back({inner, patch, cut_.segments[chord.segment].input_segment});
       segment_pieces_[chord.segment].push_back({chord.entry, chord.exit});
     }
-    add_fusions(fusions);
+    out_.add_fusions(std::move(fusions));
     // Edge parts: edge k runs from its first vertex through its chord ends to its second vertex;
     // the part before its first end belongs to the interval ending there.
     const std::uint32_t cut = static_cast<std::uint32_t>(cut_edges_.size());
@@ -519,24 +509,6 @@ class LocalRegionBuilder {
                                     false});
     }
     return true;
-  }
-
-  void add_fusions(std::vector<LocalRegions::Fusion>& fusions) {
-    std::sort(fusions.begin(), fusions.end(), [](const auto& a, const auto& b) {
-      return std::tie(a.inner, a.outer, a.patch) < std::tie(b.inner, b.outer, b.patch);
-    });
-    fusions.erase(std::unique(fusions.begin(), fusions.end(),
-                              [](const auto& a, const auto& b) {
-                                return a.inner == b.inner && a.outer == b.outer &&
-                                       a.patch == b.patch;
-                              }),
-                  fusions.end());
-    out_.fusions.insert(out_.fusions.end(), fusions.begin(), fusions.end());
-  }
-
-  void add_local_region(std::uint32_t t, RegionId region) {
-    out_.region.push_back(region);
-    out_.triangle.push_back(t);
   }
 
   /// An input vertex at an end of halfedge h (which runs along cut segment s, with local region
@@ -678,27 +650,17 @@ class LocalRegionBuilder {
       }
     }
     IMM_ASSERT(i == a.size() && j == b.size(), "edge parts do not cover the edge");
-    std::sort(found.begin(), found.end(), [](const auto& x, const auto& y) {
-      return std::tie(x.first, x.second, x.patch) < std::tie(y.first, y.second, y.patch);
-    });
-    found.erase(std::unique(found.begin(), found.end(),
-                            [](const auto& x, const auto& y) {
-                              return x.first == y.first && x.second == y.second &&
-                                     x.patch == y.patch;
-                            }),
-                found.end());
+    LocalRegions::normalise(found);
     out_.adjacencies.insert(out_.adjacencies.end(), found.begin(), found.end());
   }
 
   // ---- regions -------------------------------------------------------------------------
 
   void resolve_regions() {
-    out_.point_locations += resolve_local_regions(
-        out_.region, out_.adjacencies, [](const LocalRegions::Adjacency& a) { return !a.patch.is_valid(); },
-        [&](std::uint32_t lr) {
-          const auto tri = triangle_points(out_.triangle[lr]);
-          return locate(CGAL::centroid(tri[0], tri[1], tri[2]));
-        });
+    out_.resolve_regions([&](std::uint32_t lr) {
+      const auto tri = triangle_points(out_.element[lr]);
+      return locate(CGAL::centroid(tri[0], tri[1], tri[2]));
+    });
   }
 
 

@@ -100,10 +100,11 @@ class CsgBuilder {
     for (std::uint32_t t = 0; t < background_.triangles.size(); ++t) {
       const std::size_t begin = next;
       while (next < candidates_.size() && candidates_[next].first == t) ++next;
-      out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
+      out_.begin_element();
       process_triangle(t, begin, next);
+      out_.end_element();
     }
-    out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
+    out_.finish();
     connect_edges();
     if (!report_.ok()) return std::move(out_);
     resolve_regions();
@@ -222,14 +223,9 @@ class CsgBuilder {
     return {points_[v[0]], points_[v[1]], points_[v[2]]};
   }
 
-  void add_local_region(std::uint32_t t, RegionId region) {
-    out_.region.push_back(region);
-    out_.triangle.push_back(t);
-  }
-
   void process_triangle(std::uint32_t t, std::size_t begin, std::size_t end) {
     if (begin == end) {
-      add_local_region(t, RegionId());
+      out_.add_local_region(t);
       return;
     }
     const std::array<Point_2, 3> tri = triangle_points(t);
@@ -260,8 +256,7 @@ class CsgBuilder {
       for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
         if (!f->contained()) continue;
         IMM_ASSERT(!f->is_unbounded(), "an unbounded part of a triangle");
-        const auto lr = static_cast<std::uint32_t>(out_.region.size());
-        add_local_region(t, r);
+        const std::uint32_t lr = out_.add_local_region(t, r);
         const auto add_edges = [&](auto first) {
           auto h = first;
           do classify(tri, segments, h->source()->point(), h->target()->point(), lr, edges);
@@ -274,11 +269,10 @@ class CsgBuilder {
     const auto count = static_cast<std::uint32_t>(out_.region.size()) - base;
     if (count == 0) {
       // Inside a region bordering none of the nearby segments: labelled by flood fill.
-      add_local_region(t, RegionId());
+      out_.add_local_region(t);
       return;
     }
     is_cut_[t] = true;
-    if (count > 1) ++out_.cut_triangles;
 
     std::vector<LocalRegions::Fusion> fusions;
     for (const BoundaryEdge& e : edges) {
@@ -307,15 +301,7 @@ class CsgBuilder {
       IMM_ASSERT(across != kNone, "a piece of the input inside a triangle with one side only");
       fusions.push_back({e.local_region, across, seg.patch});
     }
-    std::sort(fusions.begin(), fusions.end(), [](const auto& a, const auto& b) {
-      return std::tie(a.inner, a.outer, a.patch) < std::tie(b.inner, b.outer, b.patch);
-    });
-    fusions.erase(std::unique(fusions.begin(), fusions.end(),
-                              [](const auto& a, const auto& b) {
-                                return a.inner == b.inner && a.outer == b.outer && a.patch == b.patch;
-                              }),
-                  fusions.end());
-    out_.fusions.insert(out_.fusions.end(), fusions.begin(), fusions.end());
+    out_.add_fusions(std::move(fusions));
   }
 
   /// Classifies boundary edge (p, q) of local region lr; edges along a triangle edge are split at
@@ -459,26 +445,17 @@ class CsgBuilder {
                                   : LocalRegions::Adjacency{y.local_region, x.local_region, x.patch, edge});
         }
       }
-    std::sort(found.begin(), found.end(), [](const auto& x, const auto& y) {
-      return std::tie(x.first, x.second, x.patch) < std::tie(y.first, y.second, y.patch);
-    });
-    found.erase(std::unique(found.begin(), found.end(),
-                            [](const auto& x, const auto& y) {
-                              return x.first == y.first && x.second == y.second && x.patch == y.patch;
-                            }),
-                found.end());
+    LocalRegions::normalise(found);
     out_.adjacencies.insert(out_.adjacencies.end(), found.begin(), found.end());
   }
 
   // ---- regions -------------------------------------------------------------------------
 
   void resolve_regions() {
-    out_.point_locations += resolve_local_regions(
-        out_.region, out_.adjacencies, [](const LocalRegions::Adjacency& a) { return !a.patch.is_valid(); },
-        [&](std::uint32_t lr) {
-          const auto tri = triangle_points(out_.triangle[lr]);
-          return locate(CGAL::centroid(tri[0], tri[1], tri[2]));
-        });
+    out_.resolve_regions([&](std::uint32_t lr) {
+      const auto tri = triangle_points(out_.element[lr]);
+      return locate(CGAL::centroid(tri[0], tri[1], tri[2]));
+    });
   }
 
 

@@ -12,6 +12,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "core/exact_sum.h"
 #include "core/union_find.h"
 #include "dim3/complex3.h"
 #include "dim3/cut_mesh.h"
@@ -20,21 +21,6 @@ namespace imm::dim3 {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-
-Rational tree_sum(std::vector<Rational> terms) {
-  if (terms.empty()) return Rational(0);
-  while (terms.size() > 1) {
-    const std::size_t half = terms.size() / 2;
-    for (std::size_t i = 0; i < half; ++i) terms[i] = terms[2 * i] + terms[2 * i + 1];
-    if (terms.size() % 2 == 1) {
-      terms[half] = std::move(terms.back());
-      terms.resize(half + 1);
-    } else {
-      terms.resize(half);
-    }
-  }
-  return std::move(terms.front());
-}
 
 /// Exact 6 x signed volume of (origin, a, b, c) for double corners, in CGAL's dyadic Mpzf
 /// (exact for +, -, x of doubles and much cheaper than GMP rationals).

@@ -61,9 +61,9 @@ std::vector<char> helper_nodes(const Complex3& complex, const Immersion& immersi
   return helper_node;
 }
 
-void assemble3(const Complex3& complex, const Immersion& immersion, const TetMesh& background,
-               const LocalRegions3& local, std::size_t input_vertices, std::size_t input_triangles,
-               bool record_contents, MeshResult3& result) {
+void assemble(const Complex3& complex, const Immersion& immersion, const TetMesh& background,
+              const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
+              bool record_contents, MeshResult3& result) {
   const CellComplex<3>& cc = complex.complex;
   const NodeLayout& layout = immersion.layout;
   // 3. Atoms, fusions and adjacencies for the driver.
@@ -71,9 +71,7 @@ void assemble3(const Complex3& complex, const Immersion& immersion, const TetMes
   elements.reserve(background.tets.size());
   for (const Tet& t : background.tets) elements.push_back({t[0], t[1], t[2], t[3]});
   AtomExpansion<3> expansion(cc, immersion, local.first, local.region, std::move(elements));
-  for (const auto& fusion : local.fusions) expansion.fuse(fusion.inner, fusion.outer, fusion.patch);
-  for (const auto& adjacency : local.adjacencies)
-    expansion.connect(adjacency.first, adjacency.second, {adjacency.face[0], adjacency.face[1], adjacency.face[2]});
+  local.glue(expansion);
   const UnglueInput<3>& input = expansion.input();
   const auto atom_of = [&](std::uint32_t lr, NodeId node) { return expansion.atom(lr, node); };
 
@@ -188,7 +186,7 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
     if (!result.report.ok()) return result;
   }
   result.stats.seconds_background += seconds_since(start);
-  detail::LocalRegions3 local;
+  detail::LocalRegions local;
   double diagonal = 0.0;
   for (int d = 0; d < 3; ++d) diagonal += (box.hi[d] - box.lo[d]) * (box.hi[d] - box.lo[d]);
   diagonal = std::sqrt(diagonal);
@@ -213,11 +211,11 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
     ValidationReport report;
     if (options.method == MeshMethod::Csg) {
       IMM_ASSERT(shift == (Point3{0, 0, 0}), "the CSG baseline takes no translation");
-      local = detail::compute_local_regions3_csg(complex, result.background, options.record_contents, options.threads,
-                                                 options.progress, report, non_generic);
+      local = detail::compute_local_regions_csg(complex, result.background, options.record_contents, options.threads,
+                                               options.progress, report, non_generic);
     } else {
-      local = detail::compute_local_regions3(complex, result.background, shift, options.record_contents,
-                                             options.threads, options.interval_filter, report, non_generic);
+      local = detail::compute_local_regions(complex, result.background, shift, options.record_contents,
+                                           options.threads, options.interval_filter, report, non_generic);
     }
     result.stats.seconds_virtual += seconds_since(start);
     result.stats.attempts = attempt + 1;
@@ -234,19 +232,19 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   result.stats.candidate_pairs = local.candidate_pairs;
   result.stats.polygons = local.polygons;
   result.stats.pieces = local.pieces;
-  result.stats.cut_tets = local.cut_tets;
+  result.stats.cut_tets = local.cut_elements;
   result.stats.side_tests = local.side_tests;
   result.stats.exact_tets = local.exact_tets;
   result.stats.cpu_seconds_exact = local.seconds_exact;
   result.stats.cpu_seconds_booleans = local.seconds_booleans;
   if (!result.report.ok()) return result;
-  log("meshing: " + std::to_string(local.polygons) + " clipped polygons, " + std::to_string(local.cut_tets) +
+  log("meshing: " + std::to_string(local.polygons) + " clipped polygons, " + std::to_string(local.cut_elements) +
       " cut tets");
 
   // 3.-5. Atoms, duplicate and connect, embedding.
   start = std::chrono::steady_clock::now();
-  detail::assemble3(complex, immersion, result.background, local, input_vertices, input_triangles,
-                    options.record_contents, result);
+  detail::assemble(complex, immersion, result.background, local, input_vertices, input_triangles,
+                   options.record_contents, result);
   result.stats.seconds_assembly = seconds_since(start);
   // DESIGN §4.6: the .emb weights reproduce every vertex within 1e-9 of the diagonal. Measured
   // here, in the doubles a reader has, so a background far larger than the input (whose
@@ -271,16 +269,6 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
   log("meshing: " + std::to_string(result.mesh.tets.size()) + " output tets, " +
       std::to_string(result.mesh.vertices.size()) + " vertices");
   return result;
-}
-
-std::string format_embedding3(const std::vector<EmbeddedVertex3>& embedding) {
-  std::ostringstream os;
-  os << std::setprecision(std::numeric_limits<double>::max_digits10);
-  os << embedding.size() << '\n';
-  for (const EmbeddedVertex3& e : embedding)
-    os << e.element << ' ' << e.weights[0] << ' ' << e.weights[1] << ' ' << e.weights[2] << ' ' << e.weights[3]
-       << '\n';
-  return os.str();
 }
 
 }  // namespace imm::dim3

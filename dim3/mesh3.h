@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/diagnostics.h"
+#include "core/embedding.h"
 #include "core/immersion_graph.h"
 #include "core/unglue.h"
 #include "dim3/complex3.h"
@@ -39,10 +40,7 @@ struct MeshOptions3 {
 
 /// Where an input vertex sits in the output: tet (0-based, output order) and barycentric weights
 /// of its background tet that reproduce its position. DESIGN §3 ".emb".
-struct EmbeddedVertex3 {
-  int element = -1;
-  std::array<double, 4> weights{};
-};
+using EmbeddedVertex3 = imm::EmbeddedVertex<3>;
 
 struct MeshStats3 {
   std::size_t background_tets = 0;
@@ -121,6 +119,6 @@ MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion,
 
 /// .emb text: number of input vertices, then `tet w0 w1 w2 w3` per vertex (max_digits10); an
 /// unused input vertex (MeshStats3::unused_vertices) is `-1 0 0 0 0`.
-std::string format_embedding3(const std::vector<EmbeddedVertex3>& embedding);
+using imm::format_embedding;
 
 }  // namespace imm::dim3

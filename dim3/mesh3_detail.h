@@ -14,49 +14,18 @@
 
 #include "core/diagnostics.h"
 #include "core/ids.h"
+#include "core/local_regions.h"
 #include "dim3/complex3.h"
 #include "dim3/mesh3.h"
 #include "dim3/tet_mesh.h"
 
 namespace imm::dim3::detail {
 
-/// The local regions of all background tets and how they connect. A local region is a connected
-/// component of (open tet minus the input surface); each lies in exactly one region of the
-/// complex. Tets the input does not meet have exactly one local region.
-struct LocalRegions3 {
-  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-
-  /// Local regions of tet t are first[t] .. first[t+1]-1 (size: tets + 1).
-  std::vector<std::uint32_t> first;
-  std::vector<RegionId> region;       ///< per local region
-  std::vector<std::uint32_t> tet;     ///< per local region
-
-  /// Two local regions of one tet on the two sides of a piece of `patch` inside the tet.
-  struct Fusion {
-    std::uint32_t inner;  ///< on the patch's negative (inner) side
-    std::uint32_t outer;  ///< on its positive side
-    PatchId patch;
-  };
-  std::vector<Fusion> fusions;  ///< one per (tet, patch, pair of local regions)
-
-  /// Two local regions of two tets sharing `face` whose parts of the face meet along a positive
-  /// area free of the input (both lie in the same region).
-  struct Adjacency {
-    std::uint32_t first;
-    std::uint32_t second;
-    std::array<int, 3> face;  ///< background vertex ids
-  };
-  std::vector<Adjacency> adjacencies;
-
-  /// Where each input vertex (input order) sits: the local region on the inner side of its patch
-  /// at the vertex, and exact barycentric coordinates in that tet, rounded once.
-  struct VertexLocation {
-    std::uint32_t local_region = kNone;  ///< kNone: not covered by the background
-    PatchId patch;
-    std::array<double, 4> weights{};
-  };
-  std::vector<VertexLocation> vertices;
-
+/// The local regions of all background tets and how they connect (core/local_regions.h;
+/// elements are tets, faces are triangles; the input meets a background face generically, so
+/// every adjacency is input-free), the pieces of cut triangles inside each tet and what the
+/// clipping cost.
+struct LocalRegions : imm::LocalRegions<3> {
   /// A piece of cut triangle `cut_triangle` inside a tet, seen from one side: `local_region` is
   /// on its inner (negative) side when `inner`, else on its outer side. Filled on request.
   struct Embedded {
@@ -68,11 +37,9 @@ struct LocalRegions3 {
 
   std::size_t candidate_pairs = 0;  ///< (tet, cut triangle) pairs with overlapping boxes
   std::size_t polygons = 0;         ///< clipped polygons of positive area
-  std::size_t cut_tets = 0;         ///< tets with two or more local regions
   std::size_t pieces = 0;           ///< connected components of the input inside tets
   std::size_t side_tests = 0;       ///< "which side of a piece" tests
   std::size_t exact_tets = 0;       ///< tets redone in exact arithmetic (intervals could not decide)
-  std::size_t point_locations = 0;  ///< exact point locations for flood components
   /// CPU seconds (summed over threads) in exact arithmetic: clipping, the tets redone in Epeck;
   /// CSG, every tet a cut triangle meets (all of its work is exact; booleans included).
   double seconds_exact = 0.0;
@@ -114,26 +81,26 @@ inline std::array<double, 4> tet_barycentric(const TetMesh& mesh, std::uint32_t 
 /// adds a Touching defect (stage "mesh") naming the tet, the cut triangle and the point; a
 /// background that does not cover the input adds NotCovered defects. Either way the result is
 /// then incomplete and must not be used.
-LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, const Point3& shift,
-                                     bool record_embedded, unsigned threads, bool interval_filter,
-                                     ValidationReport& report, bool& non_generic);
+LocalRegions compute_local_regions(const Complex3& complex, const TetMesh& background, const Point3& shift,
+                                   bool record_embedded, unsigned threads, bool interval_filter,
+                                   ValidationReport& report, bool& non_generic);
 
 /// The CSG baseline (Sifakis et al. 2007, the paper's comparison in §7; dim3/virtual_tets_csg.cpp):
-/// the same local regions, fusions, adjacencies and vertex locations as compute_local_regions3
+/// the same local regions, fusions, adjacencies and vertex locations as compute_local_regions
 /// with a zero shift, from exact Nef polyhedron booleans per cut tet (each tet minus the cut
 /// triangles that meet it; the bounded volumes are its local regions), on `threads` threads
 /// (0 = all cores; merged in tet order as there, so the result does not depend on it). For
 /// checking and timing the clipping path, not for production; `progress` (may be empty) hears
 /// every few seconds how far it got. Non-generic contacts set `non_generic` and add a Touching
 /// defect, as there; the result is then incomplete.
-LocalRegions3 compute_local_regions3_csg(const Complex3& complex, const TetMesh& background, bool record_embedded,
-                                         unsigned threads, const LogCallback& progress, ValidationReport& report,
-                                         bool& non_generic);
+LocalRegions compute_local_regions_csg(const Complex3& complex, const TetMesh& background, bool record_embedded,
+                                       unsigned threads, const LogCallback& progress, ValidationReport& report,
+                                       bool& non_generic);
 
 /// Per graph node: 1 when the node belongs to an immersion-graph component owning only patches of
 /// helper triangles (ids >= input_triangles): the solid of a helper box, dropped from every
 /// output (paper §6.2, §8). All zeros when there are no helper triangles. Shared by the
-/// background mesher (assemble3) and the conforming mesher (dim3/conforming_mesh3.cpp).
+/// background mesher (assemble) and the conforming mesher (dim3/conforming_mesh3.cpp).
 std::vector<char> helper_nodes(const Complex3& complex, const Immersion& immersion, std::size_t input_triangles);
 
 /// The assembly stage of meshing (dim3/mesh3.cpp): one atom per graph node per local region,
@@ -142,8 +109,8 @@ std::vector<char> helper_nodes(const Complex3& complex, const Immersion& immersi
 /// contents (when `record_contents`; `local` must then hold the embedded pieces) and the output
 /// counts of result.stats; an input vertex the background does not cover adds a NotCovered
 /// defect. @pre `local` was computed on `background`.
-void assemble3(const Complex3& complex, const Immersion& immersion, const TetMesh& background,
-               const LocalRegions3& local, std::size_t input_vertices, std::size_t input_triangles,
-               bool record_contents, MeshResult3& result);
+void assemble(const Complex3& complex, const Immersion& immersion, const TetMesh& background,
+              const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
+              bool record_contents, MeshResult3& result);
 
 }  // namespace imm::dim3::detail

@@ -71,7 +71,7 @@ using Point = EK::Point_3;
 /// Interval arithmetic on doubles: the fast path. A sign it cannot certify throws
 /// CGAL::Uncertain_conversion_exception, and the tet is redone with EK.
 using IK = CGAL::Simple_cartesian<CGAL::Interval_nt<false>>;
-constexpr std::uint32_t kNone = LocalRegions3::kNone;
+constexpr std::uint32_t kNone = LocalRegions::kNone;
 
 /// Face f of a tet is opposite vertex f; with these vertex orders the tet's own vertex f lies on
 /// the positive side (CGAL::orientation(a, b, c, v_f) == POSITIVE for a positive tet).
@@ -141,7 +141,7 @@ class VirtualTets {
         report_(report),
         non_generic_(non_generic) {}
 
-  LocalRegions3 run() {
+  LocalRegions run() {
     non_generic_ = false;
     input_points_ = &m_.points;
     if (shift_ != Point3{0, 0, 0}) {
@@ -212,7 +212,7 @@ class VirtualTets {
         if (non_generic_) return std::move(out_);
       }
     }
-    out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
+    out_.finish();
     out_.exact_tets = exact_tets;
     for (double s : exact_seconds) out_.seconds_exact += s;
     connect_faces();
@@ -457,10 +457,10 @@ class VirtualTets {
   /// What one tet contributes, with local-region ids local to the tet (0 .. regions.size()-1).
   struct TetOut {
     std::vector<RegionId> regions;  ///< per local region (invalid: not known from a piece)
-    std::vector<LocalRegions3::Fusion> fusions;
+    std::vector<LocalRegions::Fusion> fusions;
     std::vector<Trace> traces;
-    std::vector<LocalRegions3::Embedded> embedded;
-    std::vector<std::pair<std::uint32_t, LocalRegions3::VertexLocation>> vertices;  ///< (input point, location)
+    std::vector<LocalRegions::Embedded> embedded;
+    std::vector<std::pair<std::uint32_t, LocalRegions::VertexLocation>> vertices;  ///< (input point, location)
     std::vector<std::uint32_t> triangles;  ///< cut triangles with a polygon in the tet
     std::array<std::uint32_t, 4> face_lr{kNone, kNone, kNone, kNone};  ///< untraced faces
     std::size_t polygons = 0, pieces = 0, side_tests = 0;
@@ -471,10 +471,6 @@ class VirtualTets {
   template <class K>
   void process_tet(std::uint32_t t, std::size_t begin, std::size_t end, TetOut& o,
                    std::vector<PolygonT<K>>& polys) const {
-    const auto set_region = [&](std::uint32_t lr, RegionId region) {
-      IMM_ASSERT(!o.regions[lr].is_valid() || o.regions[lr] == region, "a local region lies in two regions");
-      o.regions[lr] = region;
-    };
     TetGeometryT<K> g;
     for (int k = 0; k < 4; ++k) g.v[k] = background_point<K>(static_cast<std::size_t>(bg_.tets[t][k]));
     polys.clear();
@@ -583,8 +579,8 @@ class VirtualTets {
     for (std::uint32_t i = 0; i < n; ++i) {
       const PolygonT<K>& p = polys[i];
       const std::uint32_t outer = lr_of_side(i, false), inner = lr_of_side(i, true);
-      set_region(outer, side_region(p.triangle, false));
-      set_region(inner, side_region(p.triangle, true));
+      LocalRegions::set_region(o.regions, outer, side_region(p.triangle, false));
+      LocalRegions::set_region(o.regions, inner, side_region(p.triangle, true));
       if (inner != outer) o.fusions.push_back({inner, outer, patch(p.triangle)});
       if (record_) {
         o.embedded.push_back({inner, p.triangle, true});
@@ -600,14 +596,7 @@ class VirtualTets {
         o.vertices.push_back({point, {inner, patch(p.triangle), {}}});  // weights: on merge, once
       }
     }
-    std::sort(o.fusions.begin(), o.fusions.end(), [](const auto& a, const auto& b) {
-      return std::tie(a.inner, a.outer, a.patch) < std::tie(b.inner, b.outer, b.patch);
-    });
-    o.fusions.erase(std::unique(o.fusions.begin(), o.fusions.end(),
-                                [](const auto& a, const auto& b) {
-                                  return a.inner == b.inner && a.outer == b.outer && a.patch == b.patch;
-                                }),
-                    o.fusions.end());
+    LocalRegions::normalise(o.fusions);
 
     // Faces without traces lie in one local region: the one holding the face's centroid.
     std::uint8_t traced = 0;
@@ -633,17 +622,10 @@ class VirtualTets {
       return;
     }
     if (o.error) std::rethrow_exception(o.error);
-    const auto base = static_cast<std::uint32_t>(out_.region.size());
-    out_.first.push_back(base);
-    for (RegionId r : o.regions) {
-      out_.region.push_back(r);
-      out_.tet.push_back(t);
-    }
-    if (o.regions.size() > 1) ++out_.cut_tets;
+    const std::uint32_t base = out_.append_element(t, o.regions, o.fusions);
     out_.polygons += o.polygons;
     out_.pieces += o.pieces;
     out_.side_tests += o.side_tests;
-    for (auto f : o.fusions) out_.fusions.push_back({base + f.inner, base + f.outer, f.patch});
     std::sort(o.traces.begin(), o.traces.end(), [](const Trace& a, const Trace& b) {
       return std::tie(a.face, a.triangle) < std::tie(b.face, b.triangle);
     });
@@ -840,25 +822,18 @@ class VirtualTets {
         const auto [blo, bhi] = traces_of(b.tet, b.f);
         IMM_ASSERT(ahi - alo == bhi - blo, "a cut triangle crosses a shared face in one tet only");
         if (alo == ahi) {
-          out_.adjacencies.push_back({face_lr(a.tet, a.f), face_lr(b.tet, b.f), a.key});
+          out_.adjacencies.push_back({face_lr(a.tet, a.f), face_lr(b.tet, b.f), PatchId(), a.key});
         } else {
           for (auto x = alo, y = blo; x != ahi; ++x, ++y) {
             IMM_ASSERT(x->triangle == y->triangle, "the two tets of a face see different traces");
-            out_.adjacencies.push_back({x->outer, y->outer, a.key});
-            out_.adjacencies.push_back({x->inner, y->inner, a.key});
+            out_.adjacencies.push_back({x->outer, y->outer, PatchId(), a.key});
+            out_.adjacencies.push_back({x->inner, y->inner, PatchId(), a.key});
           }
         }
       }
       i = j;
     }
-    std::sort(out_.adjacencies.begin(), out_.adjacencies.end(), [](const auto& x, const auto& y) {
-      return std::tie(x.first, x.second, x.face) < std::tie(y.first, y.second, y.face);
-    });
-    out_.adjacencies.erase(std::unique(out_.adjacencies.begin(), out_.adjacencies.end(),
-                                       [](const auto& x, const auto& y) {
-                                         return x.first == y.first && x.second == y.second && x.face == y.face;
-                                       }),
-                           out_.adjacencies.end());
+    LocalRegions::normalise(out_.adjacencies);
   }
 
   void background_defect(DefectKind kind, std::string message, const std::array<int, 3>& face) {
@@ -873,9 +848,7 @@ class VirtualTets {
   // ---- regions --------------------------------------------------------------------------------
 
   void resolve_regions() {
-    out_.point_locations += resolve_local_regions(
-        out_.region, out_.adjacencies, [](const LocalRegions3::Adjacency&) { return true; },
-        [&](std::uint32_t lr) { return locate(out_.tet[lr]); });
+    out_.resolve_regions([&](std::uint32_t lr) { return locate(out_.element[lr]); });
   }
 
 
@@ -968,14 +941,14 @@ class VirtualTets {
   std::vector<char> triangle_has_polygon_;
   std::vector<std::pair<std::uint32_t, std::uint8_t>> boundary_;
   std::uint32_t boundary_crossing_ = kNone;  ///< a trace on a boundary face, if any
-  LocalRegions3 out_;
+  LocalRegions out_;
 };
 
 }  // namespace
 
-LocalRegions3 compute_local_regions3(const Complex3& complex, const TetMesh& background, const Point3& shift,
-                                     bool record_embedded, unsigned threads, bool interval_filter,
-                                     ValidationReport& report, bool& non_generic) {
+LocalRegions compute_local_regions(const Complex3& complex, const TetMesh& background, const Point3& shift,
+                                   bool record_embedded, unsigned threads, bool interval_filter,
+                                   ValidationReport& report, bool& non_generic) {
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
   threads = resolve_threads(threads);
   return VirtualTets(complex, background, shift, record_embedded, threads, interval_filter, report, non_generic)

@@ -1,5 +1,5 @@
 // Virtual tets by exact CSG: the baseline the paper compares its clipping with (Li & Barbič 2018
-// §7, after Sifakis et al. 2007). It fills the same detail::LocalRegions3 as dim3/virtual_tets.cpp
+// §7, after Sifakis et al. 2007). It fills the same detail::LocalRegions as dim3/virtual_tets.cpp
 // and exists to check it (tests/dim3/csg_test.cpp) and to time the two against each other.
 //
 // For each background tet T whose box meets cut triangles:
@@ -56,7 +56,7 @@ using Point = EK::Point_3;
 using Point2 = EK::Point_2;
 using Nef = CGAL::Nef_polyhedron_3<EK>;
 using Mesh = CGAL::Surface_mesh<Point>;
-constexpr std::uint32_t kNone = LocalRegions3::kNone;
+constexpr std::uint32_t kNone = LocalRegions::kNone;
 
 /// Face f of a tet is opposite vertex f; vertex f lies on the positive side of (a, b, c).
 constexpr int kFace[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
@@ -139,9 +139,9 @@ int part_side(const FacePart& part, const Point2& p) {
 /// What one tet contributes, with its local regions numbered from 0; merged in tet order.
 struct TetOut {
   std::vector<RegionId> regions;
-  std::vector<LocalRegions3::Fusion> fusions;
-  std::vector<LocalRegions3::Embedded> embedded;
-  std::vector<std::pair<std::uint32_t, LocalRegions3::VertexLocation>> vertices;  ///< input vertex, location
+  std::vector<LocalRegions::Fusion> fusions;
+  std::vector<LocalRegions::Embedded> embedded;
+  std::vector<std::pair<std::uint32_t, LocalRegions::VertexLocation>> vertices;  ///< input vertex, location
   std::vector<std::uint32_t> met;                ///< cut triangles that meet the open tet
   std::array<std::vector<FacePart>, 4> parts;    ///< per face of the tet
   std::optional<Defect> touching;                ///< a non-generic contact (the tet is then incomplete)
@@ -159,7 +159,7 @@ class CsgTets {
       : c_(complex), m_(*complex.exact), bg_(background), record_(record), threads_(threads), progress_(progress),
         report_(report), non_generic_(non_generic) {}
 
-  LocalRegions3 run() {
+  LocalRegions run() {
     non_generic_ = false;
     points_.reserve(bg_.vertices.size());
     for (const Point3& p : bg_.vertices) points_.emplace_back(p[0], p[1], p[2]);
@@ -201,11 +201,11 @@ class CsgTets {
       if (progress_ && now - last_report > std::chrono::seconds(5)) {
         last_report = now;
         progress_("CSG booleans: " + std::to_string(first + count) + " of " + std::to_string(bg_.tets.size()) +
-                  " tets (" + std::to_string(out_.cut_tets) + " cut) after " +
+                  " tets (" + std::to_string(out_.cut_elements) + " cut) after " +
                   std::to_string(std::chrono::duration_cast<std::chrono::seconds>(now - start).count()) + " s");
       }
     }
-    out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
+    out_.finish();
     connect_faces();
     if (!report_.ok()) return std::move(out_);
     resolve_regions();
@@ -461,7 +461,7 @@ class CsgTets {
       return it->second;
     };
     std::vector<RegionId> regions(lr_of.size());
-    std::vector<LocalRegions3::Fusion> fusions;
+    std::vector<LocalRegions::Fusion> fusions;
     for (const auto& [x, p] : met) {
       out.met.push_back(x);
       Nef::Halffacet_const_handle facet;
@@ -473,11 +473,8 @@ class CsgTets {
       const bool along = CGAL::is_positive(facet->plane().orthogonal_vector() * normal);
       const std::uint32_t outer = lr(along ? facet->incident_volume() : facet->twin()->incident_volume());
       const std::uint32_t inner = lr(along ? facet->twin()->incident_volume() : facet->incident_volume());
-      for (const auto& [local, inner_side] : {std::pair{outer, false}, std::pair{inner, true}}) {
-        const RegionId r = side_region(x, inner_side);
-        IMM_ASSERT(!regions[local].is_valid() || regions[local] == r, "a local region lies in two regions");
-        regions[local] = r;
-      }
+      LocalRegions::set_region(regions, outer, side_region(x, false));
+      LocalRegions::set_region(regions, inner, side_region(x, true));
       if (inner != outer) fusions.push_back({inner, outer, patch(x)});
       if (record_) {
         out.embedded.push_back({inner, x, true});
@@ -494,18 +491,11 @@ class CsgTets {
                                      corner(x, k)) == CGAL::POSITIVE;
         if (!inside) continue;
         const Point3& q = c_.surface.vertices[point];
-        out.vertices.emplace_back(point, LocalRegions3::VertexLocation{inner, patch(x), tet_barycentric(bg_, t, q)});
+        out.vertices.emplace_back(point, LocalRegions::VertexLocation{inner, patch(x), tet_barycentric(bg_, t, q)});
       }
     }
     out.regions = regions;
-    std::sort(fusions.begin(), fusions.end(), [](const auto& a, const auto& b) {
-      return std::tie(a.inner, a.outer, a.patch) < std::tie(b.inner, b.outer, b.patch);
-    });
-    fusions.erase(std::unique(fusions.begin(), fusions.end(),
-                              [](const auto& a, const auto& b) {
-                                return a.inner == b.inner && a.outer == b.outer && a.patch == b.patch;
-                              }),
-                  fusions.end());
+    LocalRegions::normalise(fusions);
     out.fusions = std::move(fusions);
 
     // Face parts: halffacets from a local region to the outside.
@@ -554,19 +544,12 @@ class CsgTets {
       return;
     }
     if (tet.error) std::rethrow_exception(tet.error);
-    const auto base = static_cast<std::uint32_t>(out_.region.size());
-    out_.first.push_back(base);
-    for (RegionId r : tet.regions) {
-      out_.region.push_back(r);
-      out_.tet.push_back(t);
-    }
-    if (tet.regions.size() > 1) ++out_.cut_tets;
+    const std::uint32_t base = out_.append_element(t, tet.regions, tet.fusions);
     out_.polygons += tet.met.size();
     out_.seconds_exact += tet.seconds;
     out_.seconds_booleans += tet.seconds_booleans;
     for (std::uint32_t x : tet.met) triangle_met_[x] = 1;
-    for (const LocalRegions3::Fusion& f : tet.fusions) out_.fusions.push_back({base + f.inner, base + f.outer, f.patch});
-    for (const LocalRegions3::Embedded& e : tet.embedded)
+    for (const LocalRegions::Embedded& e : tet.embedded)
       out_.embedded.push_back({base + e.local_region, e.cut_triangle, e.inner});
     for (auto& [point, location] : tet.vertices) {
       if (out_.vertices[point].local_region != kNone) continue;
@@ -603,7 +586,7 @@ class CsgTets {
       const std::vector<FacePart>& a = parts_[4 * t1 + static_cast<std::size_t>(f1)];
       const std::vector<FacePart>& b = parts_[4 * t2 + static_cast<std::size_t>(f2)];
       const std::uint32_t base1 = out_.first[t1], base2 = out_.first[t2];
-      const auto add = [&](std::uint32_t x, std::uint32_t y) { out_.adjacencies.push_back({base1 + x, base2 + y, key}); };
+      const auto add = [&](std::uint32_t x, std::uint32_t y) { out_.adjacencies.push_back({base1 + x, base2 + y, PatchId(), key}); };
       if (a.size() == 1 || b.size() == 1) {
         // One side is a single part covering the face: it overlaps every part of the other.
         for (const FacePart& x : a)
@@ -623,22 +606,13 @@ class CsgTets {
       for (const FacePart& x : a) add(x.lr, holder(b, x.inside));
       for (const FacePart& y : b) add(holder(a, y.inside), y.lr);
     }
-    std::sort(out_.adjacencies.begin(), out_.adjacencies.end(), [](const auto& x, const auto& y) {
-      return std::tie(x.first, x.second, x.face) < std::tie(y.first, y.second, y.face);
-    });
-    out_.adjacencies.erase(std::unique(out_.adjacencies.begin(), out_.adjacencies.end(),
-                                       [](const auto& x, const auto& y) {
-                                         return x.first == y.first && x.second == y.second && x.face == y.face;
-                                       }),
-                           out_.adjacencies.end());
+    LocalRegions::normalise(out_.adjacencies);
   }
 
   // ---- regions --------------------------------------------------------------------------------
 
   void resolve_regions() {
-    out_.point_locations += resolve_local_regions(
-        out_.region, out_.adjacencies, [](const LocalRegions3::Adjacency&) { return true; },
-        [&](std::uint32_t lr) { return locate(out_.tet[lr]); });
+    out_.resolve_regions([&](std::uint32_t lr) { return locate(out_.element[lr]); });
   }
 
 
@@ -748,14 +722,14 @@ class CsgTets {
   std::vector<std::vector<FacePart>> parts_;  ///< per (tet, face)
   std::vector<char> triangle_met_;
   std::vector<std::pair<std::uint32_t, int>> boundary_;
-  LocalRegions3 out_;
+  LocalRegions out_;
 };
 
 }  // namespace
 
-LocalRegions3 compute_local_regions3_csg(const Complex3& complex, const TetMesh& background, bool record_embedded,
-                                         unsigned threads, const LogCallback& progress, ValidationReport& report,
-                                         bool& non_generic) {
+LocalRegions compute_local_regions_csg(const Complex3& complex, const TetMesh& background, bool record_embedded,
+                                       unsigned threads, const LogCallback& progress, ValidationReport& report,
+                                       bool& non_generic) {
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
   return CsgTets(complex, background, record_embedded, resolve_threads(threads), progress, report, non_generic).run();
 }

@@ -76,35 +76,35 @@ struct Summary {
 Summary summarize(const LocalRegions& lr, std::size_t triangles) {
   Summary s;
   EXPECT_EQ(lr.first.size(), triangles + 1);
-  EXPECT_EQ(lr.region.size(), lr.triangle.size());
+  EXPECT_EQ(lr.region.size(), lr.element.size());
   s.triangle_regions.resize(triangles);
   for (std::uint32_t t = 0; t < triangles; ++t)
     for (std::uint32_t i = lr.first[t]; i < lr.first[t + 1]; ++i) {
-      EXPECT_EQ(lr.triangle[i], t);
+      EXPECT_EQ(lr.element[i], t);
       EXPECT_TRUE(lr.region[i].is_valid()) << "local region " << i << " without a region";
       s.triangle_regions[t].insert(lr.region[i].value());
     }
   for (const auto& f : lr.fusions) {
-    EXPECT_EQ(lr.triangle[f.inner], lr.triangle[f.outer]);
-    s.fusions.insert({lr.triangle[f.inner], lr.region[f.inner].value(), lr.region[f.outer].value(),
+    EXPECT_EQ(lr.element[f.inner], lr.element[f.outer]);
+    s.fusions.insert({lr.element[f.inner], lr.region[f.inner].value(), lr.region[f.outer].value(),
                       f.patch.value()});
   }
   for (const auto& a : lr.adjacencies) {
     // Free adjacencies are unordered: sort their regions.
     int x = lr.region[a.first].value(), y = lr.region[a.second].value();
     if (!a.patch.is_valid() && x > y) std::swap(x, y);
-    s.adjacencies[{std::min(a.edge[0], a.edge[1]), std::max(a.edge[0], a.edge[1])}].insert(
+    s.adjacencies[{std::min(a.face[0], a.face[1]), std::max(a.face[0], a.face[1])}].insert(
         {x, y, a.patch.value()});
   }
   for (const auto& v : lr.vertices) {
     if (v.local_region == UINT32_MAX) {
       s.vertices.emplace_back(UINT32_MAX, -1, v.patch.value());
     } else {
-      s.vertices.emplace_back(lr.triangle[v.local_region], lr.region[v.local_region].value(),
+      s.vertices.emplace_back(lr.element[v.local_region], lr.region[v.local_region].value(),
                               v.patch.value());
     }
   }
-  s.cut_triangles = lr.cut_triangles;
+  s.cut_triangles = lr.cut_elements;
   return s;
 }
 
@@ -171,7 +171,7 @@ TEST(Csg, SameLocalRegionsAsClipping) {
     total_clip += t_clip;
     total_csg += t_csg;
     std::printf("  %-32s %5zu triangles %4zu cut  clip %8.2f ms  csg %9.2f ms  (x%.0f)\n",
-                c.name.c_str(), background.triangles.size(), clip.cut_triangles, 1e3 * t_clip,
+                c.name.c_str(), background.triangles.size(), clip.cut_elements, 1e3 * t_clip,
                 1e3 * t_csg, t_csg / t_clip);
     ASSERT_TRUE(clip_report.ok());
     ASSERT_TRUE(csg_report.ok());

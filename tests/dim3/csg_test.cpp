@@ -33,7 +33,7 @@
 namespace imm::dim3 {
 namespace {
 
-using detail::LocalRegions3;
+using detail::LocalRegions;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -44,17 +44,17 @@ struct Colours {
   std::vector<std::uint32_t> a, b;
 };
 
-Colours refine(const LocalRegions3& x, const LocalRegions3& y, int rounds) {
+Colours refine(const LocalRegions& x, const LocalRegions& y, int rounds) {
   using Signature = std::vector<std::int64_t>;
-  const auto initial = [](const LocalRegions3& r, std::map<Signature, std::uint32_t>& ids) {
+  const auto initial = [](const LocalRegions& r, std::map<Signature, std::uint32_t>& ids) {
     std::vector<std::uint32_t> c(r.region.size());
     for (std::size_t i = 0; i < c.size(); ++i)
-      c[i] = ids.emplace(Signature{r.tet[i], r.region[i].value()}, static_cast<std::uint32_t>(ids.size())).first->second;
+      c[i] = ids.emplace(Signature{r.element[i], r.region[i].value()}, static_cast<std::uint32_t>(ids.size())).first->second;
     return c;
   };
   std::map<Signature, std::uint32_t> ids;
   Colours c{initial(x, ids), initial(y, ids)};
-  const auto step = [](const LocalRegions3& r, const std::vector<std::uint32_t>& colour,
+  const auto step = [](const LocalRegions& r, const std::vector<std::uint32_t>& colour,
                        std::map<Signature, std::uint32_t>& next) {
     std::vector<std::vector<std::array<std::int64_t, 5>>> around(r.region.size());
     for (const auto& f : r.fusions) {
@@ -84,19 +84,19 @@ Colours refine(const LocalRegions3& x, const LocalRegions3& y, int rounds) {
 using Fusions = std::vector<std::tuple<std::uint32_t, std::uint32_t, std::int64_t>>;
 using Adjacencies = std::vector<std::tuple<std::array<int, 3>, std::uint32_t, std::uint32_t>>;
 
-Fusions fusions_in(const LocalRegions3& r, const std::vector<std::uint32_t>& colour) {
+Fusions fusions_in(const LocalRegions& r, const std::vector<std::uint32_t>& colour) {
   Fusions out;
   for (const auto& f : r.fusions) out.emplace_back(colour[f.inner], colour[f.outer], f.patch.value());
   std::sort(out.begin(), out.end());
   return out;
 }
 
-Adjacencies adjacencies_in(const LocalRegions3& r, const std::vector<std::uint32_t>& colour) {
+Adjacencies adjacencies_in(const LocalRegions& r, const std::vector<std::uint32_t>& colour) {
   Adjacencies out;
   for (const auto& a : r.adjacencies) {
     // Ordered by tet: both paths put the smaller tet first, but do not rely on it.
     std::uint32_t p = a.first, q = a.second;
-    if (r.tet[p] > r.tet[q]) std::swap(p, q);
+    if (r.element[p] > r.element[q]) std::swap(p, q);
     out.emplace_back(a.face, colour[p], colour[q]);
   }
   std::sort(out.begin(), out.end());
@@ -124,23 +124,23 @@ void expect_same_duplication(const Surface& surface, const std::string& name, in
   ValidationReport clip_report, csg_report;
   bool clip_non_generic = false, csg_non_generic = false;
   auto start = std::chrono::steady_clock::now();
-  const LocalRegions3 clip = detail::compute_local_regions3(complex, background, {0, 0, 0}, /*record_embedded=*/true,
+  const LocalRegions clip = detail::compute_local_regions(complex, background, {0, 0, 0}, /*record_embedded=*/true,
                                                             /*threads=*/1, /*interval_filter=*/true, clip_report,
                                                             clip_non_generic);
   const double clip_seconds = seconds_since(start);
   start = std::chrono::steady_clock::now();
-  const LocalRegions3 csg =
-      detail::compute_local_regions3_csg(complex, background, /*record_embedded=*/true, /*threads=*/0, {}, csg_report,
+  const LocalRegions csg =
+      detail::compute_local_regions_csg(complex, background, /*record_embedded=*/true, /*threads=*/0, {}, csg_report,
                                          csg_non_generic);
   const double csg_seconds = seconds_since(start);
   std::printf("[ timing ] %s res %d: %zu tets, %zu cut tets, %zu local regions; clipping %.3f s, CSG %.3f s\n",
-              name.c_str(), resolution, background.tets.size(), clip.cut_tets, clip.region.size(), clip_seconds,
+              name.c_str(), resolution, background.tets.size(), clip.cut_elements, clip.region.size(), clip_seconds,
               csg_seconds);
   ASSERT_TRUE(clip_report.ok()) << clip_report.summary();
   ASSERT_FALSE(clip_non_generic);
   ASSERT_TRUE(csg_report.ok()) << csg_report.summary();
   ASSERT_FALSE(csg_non_generic);
-  ASSERT_GT(clip.cut_tets, 0u);
+  ASSERT_GT(clip.cut_elements, 0u);
 
   // Per tet: the same number of local regions, lying in the same regions.
   ASSERT_EQ(csg.first.size(), clip.first.size());
@@ -152,7 +152,7 @@ void expect_same_duplication(const Surface& surface, const std::string& name, in
     std::sort(b.begin(), b.end());
     ASSERT_EQ(a, b) << "tet " << t;
   }
-  EXPECT_EQ(csg.cut_tets, clip.cut_tets);
+  EXPECT_EQ(csg.cut_elements, clip.cut_elements);
   EXPECT_EQ(csg.fusions.size(), clip.fusions.size());
   EXPECT_EQ(csg.adjacencies.size(), clip.adjacencies.size());
   EXPECT_EQ(csg.embedded.size(), clip.embedded.size());
@@ -165,7 +165,7 @@ void expect_same_duplication(const Surface& surface, const std::string& name, in
   EXPECT_EQ(a, b);
   EXPECT_EQ(fusions_in(clip, colour.a), fusions_in(csg, colour.b));
   EXPECT_EQ(adjacencies_in(clip, colour.a), adjacencies_in(csg, colour.b));
-  const auto embedded_in = [](const LocalRegions3& r, const std::vector<std::uint32_t>& colours) {
+  const auto embedded_in = [](const LocalRegions& r, const std::vector<std::uint32_t>& colours) {
     std::vector<std::tuple<std::uint32_t, std::uint32_t, bool>> out;
     for (const auto& e : r.embedded) out.emplace_back(colours[e.local_region], e.cut_triangle, e.inner);
     std::sort(out.begin(), out.end());
@@ -178,9 +178,9 @@ void expect_same_duplication(const Surface& surface, const std::string& name, in
   for (std::size_t v = 0; v < clip.vertices.size(); ++v) {
     const auto& p = clip.vertices[v];
     const auto& q = csg.vertices[v];
-    ASSERT_NE(p.local_region, LocalRegions3::kNone) << "vertex " << v;
-    ASSERT_NE(q.local_region, LocalRegions3::kNone) << "vertex " << v;
-    EXPECT_EQ(clip.tet[p.local_region], csg.tet[q.local_region]) << "vertex " << v;
+    ASSERT_NE(p.local_region, LocalRegions::kNone) << "vertex " << v;
+    ASSERT_NE(q.local_region, LocalRegions::kNone) << "vertex " << v;
+    EXPECT_EQ(clip.element[p.local_region], csg.element[q.local_region]) << "vertex " << v;
     EXPECT_EQ(colour.a[p.local_region], colour.b[q.local_region]) << "vertex " << v;
     EXPECT_EQ(p.patch, q.patch) << "vertex " << v;
     EXPECT_EQ(p.weights, q.weights) << "vertex " << v;
@@ -215,20 +215,20 @@ TEST(CsgBaselineThreads, TheThreadCountDoesNotChangeTheResult) {
   ASSERT_TRUE(im.build.complex != nullptr);
   const Complex3& complex = *im.build.complex;
   const TetMesh background = make_grid_background(bounding_box(complex.surface), 5, 0);  // 5 blocks of tets
-  std::vector<LocalRegions3> results;
+  std::vector<LocalRegions> results;
   for (unsigned threads : {1u, 2u, 3u}) {
     ValidationReport report;
     bool non_generic = false;
-    results.push_back(detail::compute_local_regions3_csg(complex, background, /*record_embedded=*/true, threads, {},
+    results.push_back(detail::compute_local_regions_csg(complex, background, /*record_embedded=*/true, threads, {},
                                                          report, non_generic));
     ASSERT_TRUE(report.ok()) << report.summary();
   }
-  const LocalRegions3& one = results.front();
-  ASSERT_GT(one.cut_tets, 0u);
-  for (const LocalRegions3& r : results) {
+  const LocalRegions& one = results.front();
+  ASSERT_GT(one.cut_elements, 0u);
+  for (const LocalRegions& r : results) {
     EXPECT_EQ(r.first, one.first);
     EXPECT_EQ(r.region, one.region);
-    EXPECT_EQ(r.tet, one.tet);
+    EXPECT_EQ(r.element, one.element);
     ASSERT_EQ(r.fusions.size(), one.fusions.size());
     for (std::size_t i = 0; i < r.fusions.size(); ++i)
       EXPECT_TRUE(r.fusions[i].inner == one.fusions[i].inner && r.fusions[i].outer == one.fusions[i].outer &&
@@ -267,7 +267,7 @@ TEST(CsgBaselineTouching, TheFirstContactInTetOrderIsReported) {
   for (unsigned threads : {1u, 3u}) {
     ValidationReport report;
     bool non_generic = false;
-    detail::compute_local_regions3_csg(*im.build.complex, grid, false, threads, {}, report, non_generic);
+    detail::compute_local_regions_csg(*im.build.complex, grid, false, threads, {}, report, non_generic);
     EXPECT_TRUE(non_generic);
     ASSERT_EQ(report.defects.size(), 1u);
     EXPECT_EQ(report.defects.front().kind, DefectKind::Touching);

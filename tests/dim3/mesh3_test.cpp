@@ -670,7 +670,7 @@ TEST_P(Mesh3Invariants, OutputSatisfiesInvariants) {
         EXPECT_EQ(other->embedding[v].element, m.mesh.embedding[v].element);
         EXPECT_EQ(other->embedding[v].weights, m.mesh.embedding[v].weights);
       }
-      EXPECT_EQ(format_embedding3(other->embedding), format_embedding3(m.mesh.embedding));
+      EXPECT_EQ(format_embedding(other->embedding), format_embedding(m.mesh.embedding));
     }
   }
 }

@@ -42,7 +42,7 @@ MeshResult3 mesh(const Prepared& p, MeshOptions3 options) {
 
 /// Everything a user receives, as text.
 std::string fingerprint(const MeshResult3& m) {
-  return format_medit_3d(m.mesh) + format_embedding3(m.embedding);
+  return format_medit_3d(m.mesh) + format_embedding(m.embedding);
 }
 
 struct Case {
