@@ -29,6 +29,13 @@
 //    the first one. That choice is a symmetry, not a deduction, but it is one every search
 //    decision would make the same way; doing it in the propagation fixpoint removes one search
 //    state (and one scan of all variables) per node: 14 589 states became 326 on 32 circles;
+//  - the choice of the next variable is kept in an index (a min segment tree of per-patch keys,
+//    SearchOptions::incremental_choice; see "the choice of the next variable" below): each step
+//    refreshes it for the B-patches of the cells whose slots it changed (Worklist::dirty_cells),
+//    and the variable chosen is exactly the one a rescan of every open variable would choose.
+//    Before (issue 19), every state rescanned every patch and recomputed the copy classes of
+//    every cell: 62-70 % of the search on 64 circles and 24 spheres, whose states (814, 1828)
+//    have no branch and no dead end; a search is now about as costly as its propagation;
 //  - trial connections (Algorithm 1, "connectNodes"; failed-literal probing): at a real branch
 //    point (two or more options left after the symmetry reduction below), every option of the
 //    chosen variable is first tried with full propagation on a scratch copy (each trial counts
