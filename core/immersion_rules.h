@@ -671,19 +671,6 @@ inline bool propagate_sheet_continuation(StateEditor& ed, PatchId p) {
 
 // ---- arc propagators ---------------------------------------------------------------------------
 
-/// Calls f(k, x) for every wedge k of the arc that lies in a cell and every node x of that cell.
-template <class F>
-bool for_each_wedge_node(const RuleContext& ctx, const ArcView& arc, F&& f) {
-  for (int k = 0; k < 4; ++k) {
-    const CellId c = arc.cell[k];
-    if (!c.is_valid()) continue;
-    for (int n = ctx.first_node(c).value(); n < ctx.node_end(c); ++n) {
-      if (!f(k, NodeId(n))) return false;
-    }
-  }
-  return true;
-}
-
 /// A node cannot own both B-patches bounding one of its wedges (its two geometric neighbours w.r.t.
 /// the cell at this arc): the local piece would be a single wedge, which is not a manifold
 /// neighbourhood. When both junctions of the wedge are the same patch (a B-patch that is its own
@@ -693,13 +680,31 @@ inline bool propagate_rule5(StateEditor& ed, ArcId a) {
   const RuleContext& ctx = ed.ctx();
   const ArcView& arc = ctx.arcs[a];
   const Reason why{5, a.value()};
-  return for_each_wedge_node(ctx, arc, [&](int k, NodeId x) {
+  for (int k = 0; k < 4; ++k) {
+    const CellId c = arc.cell[k];
+    if (!c.is_valid()) continue;
     const PatchId left = arc.patch[k], right = arc.patch[(k + 1) % 4];
-    if (left == right) return ed.decline(x, left, why);
-    if (ed.value(x, left) == kOwned) return ed.decline(x, right, why);
-    if (ed.value(x, right) == kOwned) return ed.decline(x, left, why);
-    return true;
-  });
+    if (left == right) {
+      for (int n = ctx.first_node(c).value(); n < ctx.node_end(c); ++n) {
+        if (!ed.decline(NodeId(n), left, why)) return false;
+      }
+      continue;
+    }
+    // A slot is Owned exactly when its node is the patch's recorded owner (StateEditor::own), so
+    // only the owners of the two junctions can own one of them: no scan of the wedge's copies.
+    // Declines create no owner, so the owners stay the same during the loop; they are handled
+    // in node order, as a scan of the copies would.
+    NodeId owns_left = ed.state().owner[left], owns_right = ed.state().owner[right];
+    if (owns_left.is_valid() && ctx.layout.cell(owns_left) != c) owns_left = NodeId();
+    if (owns_right.is_valid() && ctx.layout.cell(owns_right) != c) owns_right = NodeId();
+    if (owns_left.is_valid() && owns_right.is_valid() && owns_right < owns_left) {
+      if (!ed.decline(owns_right, left, why)) return false;
+      owns_right = NodeId();
+    }
+    if (owns_left.is_valid() && !ed.decline(owns_left, right, why)) return false;
+    if (owns_right.is_valid() && owns_right != owns_left && !ed.decline(owns_right, left, why)) return false;
+  }
+  return true;
 }
 
 /// Across junction k+1 (patch q = P_{k+1}), wedge k of cell C_k meets wedge k+1 of cell C_{k+1}.
@@ -875,11 +880,24 @@ inline NodeId glued(const RuleContext& ctx, const SearchState& st, NodeId n, Pat
   const std::int32_t v = st.slot[ctx.slot(n, p)];
   return v >= 0 ? NodeId(v) : NodeId();
 }
-/// The nodes of a cell, as ids.
-inline std::vector<NodeId> nodes_of(const RuleContext& ctx, CellId c) {
-  std::vector<NodeId> out;
-  for (int n = ctx.first_node(c).value(); n < ctx.node_end(c); ++n) out.push_back(NodeId(n));
-  return out;
+/// The nodes of a cell, as a range of ids (no allocation: the predicates run over every arc of
+/// every accepted graph, a million nodes on the largest piles of issue 19).
+struct NodeRange {
+  struct iterator {
+    int n;
+    NodeId operator*() const { return NodeId(n); }
+    iterator& operator++() {
+      ++n;
+      return *this;
+    }
+    bool operator!=(const iterator& o) const { return n != o.n; }
+  };
+  int first, last;
+  [[nodiscard]] iterator begin() const { return {first}; }
+  [[nodiscard]] iterator end() const { return {last}; }
+};
+inline NodeRange nodes_of(const RuleContext& ctx, CellId c) {
+  return NodeRange{ctx.first_node(c).value(), ctx.node_end(c)};
 }
 
 inline std::optional<Conflict> check_rule4(const RuleContext& ctx, const SearchState& st, int group) {
