@@ -110,19 +110,31 @@ inline bool propagate_to_fixpoint(StateEditor& ed, Worklist& worklist) {
   }
 }
 
-/// The complete graph of a state whose every slot is Owned or Connected.
-inline Immersion extract_immersion(const RuleContext& ctx, const SearchState& st) {
+/// The complete graph of slot values and owners whose every slot is Owned or Connected.
+inline Immersion extract_immersion(const RuleContext& ctx, const std::vector<std::int32_t>& slot,
+                                   const IdMap<PatchId, NodeId>& owner) {
   Immersion im;
   im.layout = ctx.layout;
-  im.owner = st.owner;
-  for (std::size_t s = 0; s < ctx.slot_count(); ++s) {
-    const std::int32_t v = st.slot[s];
-    const NodeId n = ctx.slot_node[s];
-    const PatchId p = ctx.slot_patch[s];
-    if (v >= 0 && ctx.layout.cell(n) == ctx.inner[p]) im.edges.push_back({n, NodeId(v), p});
+  im.owner = owner;
+  // Slots are grouped by node in increasing node order, so the edges come out sorted by their
+  // inner node; only each node's few edges need sorting (by outer node, then patch), not the
+  // whole list (millions of edges on the largest piles).
+  for (NodeId n : ids<NodeId>(ctx.node_count())) {
+    const std::size_t first = im.edges.size();
+    const int b = ctx.slot_base[n];
+    const int e = b + static_cast<int>(ctx.b_patches[ctx.layout.cell(n)].size());
+    for (int s = b; s < e; ++s) {
+      const std::int32_t v = slot[s];
+      const PatchId p = ctx.slot_patch[s];
+      if (v >= 0 && ctx.layout.cell(n) == ctx.inner[p]) im.edges.push_back({n, NodeId(v), p});
+    }
+    std::sort(im.edges.begin() + static_cast<long>(first), im.edges.end());
   }
-  std::sort(im.edges.begin(), im.edges.end());
+  IMM_ASSERT(std::is_sorted(im.edges.begin(), im.edges.end()), "extract_immersion: edges out of order");
   return im;
+}
+inline Immersion extract_immersion(const RuleContext& ctx, const SearchState& st) {
+  return extract_immersion(ctx, st.slot, st.owner);
 }
 
 /// canonical_form over the flattened tables (see immersion_graph.h for the definition). With
@@ -338,18 +350,25 @@ class ImmersionSearch {
     }
 
     // Cartesian product, first solutions first.
+    // Every slot and patch lies in one group, so each product element overwrites all of them:
+    // one buffer of slot values and owners serves them all (no copy of the root state's reasons).
     std::vector<std::size_t> pick(groups.size(), 0);
     bool product_done = false;
+    std::vector<std::int32_t> slots;
+    IdMap<PatchId, NodeId> owners;
     while (!product_done) {
       if (options_.max_immersions != 0 && result.immersions.size() >= options_.max_immersions) break;
-      SearchState st = root;
+      if (slots.empty()) {
+        slots = root.slot;
+        owners = root.owner;
+      }
       for (std::size_t g = 0; g < groups.size(); ++g) {
         const GroupSolutions& sol = groups[g];
-        for (std::size_t i = 0; i < sol.slots.size(); ++i) st.slot[sol.slots[i]] = sol.values[pick[g]][i];
+        for (std::size_t i = 0; i < sol.slots.size(); ++i) slots[sol.slots[i]] = sol.values[pick[g]][i];
         const auto& patches = ctx_.group_patches[g];
-        for (std::size_t i = 0; i < patches.size(); ++i) st.owner[patches[i]] = sol.owners[pick[g]][i];
+        for (std::size_t i = 0; i < patches.size(); ++i) owners[patches[i]] = sol.owners[pick[g]][i];
       }
-      result.immersions.push_back(extract_immersion(ctx_, st));
+      result.immersions.push_back(extract_immersion(ctx_, slots, owners));
       std::size_t g = 0;
       while (g < groups.size() && ++pick[g] == groups[g].values.size()) pick[g++] = 0;
       product_done = g == groups.size();
