@@ -7,6 +7,9 @@
 //  - BM_SearchPile2Classic/k/seed and BM_SearchPile3Classic/k/seed: the same inputs with the
 //    search order before issue 19 (SearchOptions::sheets_first and continue_sheets off), for
 //    the sizes where it still finishes within its time budget.
+//  - BM_SearchPile2Scan/k/seed and BM_SearchPile3Scan/k/seed: the default order with the rescan
+//    of every open variable per state instead of the incremental choice
+//    (SearchOptions::incremental_choice off): the same states, only the cost of choosing differs.
 // The complex is built outside the timed loop (one iteration: the 3D builds take seconds); the
 // timed region is one find_immersions call with the default first-immersion options and a
 // time limit of kTimeLimit seconds (kClassicTimeLimit for the old order). Counters: the size of the complex (cells, patches, arcs,
@@ -47,17 +50,22 @@ void report(benchmark::State& state, const CellComplex<D>& complex, const Search
   state.counters["dead_ends"] = static_cast<double>(result.stats.dead_ends);
   state.counters["probes"] = static_cast<double>(result.stats.probes);
   state.counters["found"] = result.status == ImmersionStatus::Immersible ? 1.0 : 0.0;
+  state.counters["choice_rebuilds"] = static_cast<double>(result.stats.choice_rebuilds);
   state.counters["search_s"] = result.stats.seconds;
 }
 
+enum class Variant { Default, Classic, Scan };
+
 template <int D>
-void run(benchmark::State& state, const CellComplex<D>& complex, bool classic) {
+void run(benchmark::State& state, const CellComplex<D>& complex, Variant variant) {
   SearchOptions options;
+  const bool classic = variant == Variant::Classic;
   options.time_limit_seconds = classic ? kClassicTimeLimit : kTimeLimit;
   if (classic) {
     options.sheets_first = false;
     options.continue_sheets = false;
   }
+  options.incremental_choice = variant != Variant::Scan;
   SearchResult result;
   for (auto _ : state) {
     result = find_immersions(complex, options);
@@ -67,7 +75,7 @@ void run(benchmark::State& state, const CellComplex<D>& complex, bool classic) {
   if (result.status != ImmersionStatus::Immersible) state.SkipWithError("no immersion within the time limit");
 }
 
-void pile2(benchmark::State& state, bool classic) {
+void pile2(benchmark::State& state, Variant variant) {
   const int k = static_cast<int>(state.range(0));
   const auto seed = static_cast<std::uint64_t>(state.range(1));
   const dim2::BuildResult built = dim2::build_complex(dim2::circles_pile(k, seed, 32));
@@ -75,10 +83,10 @@ void pile2(benchmark::State& state, bool classic) {
     state.SkipWithError("the pile did not build");
     return;
   }
-  run(state, built.complex->complex, classic);
+  run(state, built.complex->complex, variant);
 }
 
-void pile3(benchmark::State& state, bool classic) {
+void pile3(benchmark::State& state, Variant variant) {
   const int k = static_cast<int>(state.range(0));
   const auto seed = static_cast<std::uint64_t>(state.range(1));
   dim3::BuildOptions3 options;
@@ -88,13 +96,15 @@ void pile3(benchmark::State& state, bool classic) {
     state.SkipWithError("the pile did not build");
     return;
   }
-  run(state, built.complex->complex, classic);
+  run(state, built.complex->complex, variant);
 }
 
-void BM_SearchPile2(benchmark::State& state) { pile2(state, false); }
-void BM_SearchPile2Classic(benchmark::State& state) { pile2(state, true); }
-void BM_SearchPile3(benchmark::State& state) { pile3(state, false); }
-void BM_SearchPile3Classic(benchmark::State& state) { pile3(state, true); }
+void BM_SearchPile2(benchmark::State& state) { pile2(state, Variant::Default); }
+void BM_SearchPile2Classic(benchmark::State& state) { pile2(state, Variant::Classic); }
+void BM_SearchPile2Scan(benchmark::State& state) { pile2(state, Variant::Scan); }
+void BM_SearchPile3(benchmark::State& state) { pile3(state, Variant::Default); }
+void BM_SearchPile3Classic(benchmark::State& state) { pile3(state, Variant::Classic); }
+void BM_SearchPile3Scan(benchmark::State& state) { pile3(state, Variant::Scan); }
 
 BENCHMARK(BM_SearchPile2)
     ->ArgNames({"k", "seed"})
@@ -106,6 +116,11 @@ BENCHMARK(BM_SearchPile2Classic)
     ->ArgsProduct({{16, 24}, {1, 2, 3, 4, 5}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SearchPile2Scan)
+    ->ArgNames({"k", "seed"})
+    ->ArgsProduct({{32, 64, 128}, {1, 2, 3, 4, 5}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SearchPile3)
     ->ArgNames({"k", "seed"})
     ->ArgsProduct({{8, 12, 16, 24, 32, 48, 64}, {1, 2, 3, 4, 5}})
@@ -114,6 +129,12 @@ BENCHMARK(BM_SearchPile3)
 BENCHMARK(BM_SearchPile3Classic)
     ->ArgNames({"k", "seed"})
     ->ArgsProduct({{8, 12}, {1, 2, 3, 4, 5}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK(BM_SearchPile3Scan)
+    ->ArgNames({"k", "seed"})
+    ->ArgsProduct({{12, 24, 32}, {1, 2, 3, 4, 5}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

@@ -29,6 +29,13 @@
 //    the first one. That choice is a symmetry, not a deduction, but it is one every search
 //    decision would make the same way; doing it in the propagation fixpoint removes one search
 //    state (and one scan of all variables) per node: 14 589 states became 326 on 32 circles;
+//  - the choice of the next variable is kept in an index (a min segment tree of per-patch keys,
+//    SearchOptions::incremental_choice; see "the choice of the next variable" below): each step
+//    refreshes it for the B-patches of the cells whose slots it changed (Worklist::dirty_cells),
+//    and the variable chosen is exactly the one a rescan of every open variable would choose.
+//    Before (issue 19), every state rescanned every patch and recomputed the copy classes of
+//    every cell: 62-70 % of the search on 64 circles and 24 spheres, whose states (814, 1828)
+//    have no branch and no dead end; a search is now about as costly as its propagation;
 //  - trial connections (Algorithm 1, "connectNodes"; failed-literal probing): at a real branch
 //    point (two or more options left after the symmetry reduction below), every option of the
 //    chosen variable is first tried with full propagation on a scratch copy (each trial counts
@@ -103,19 +110,31 @@ inline bool propagate_to_fixpoint(StateEditor& ed, Worklist& worklist) {
   }
 }
 
-/// The complete graph of a state whose every slot is Owned or Connected.
-inline Immersion extract_immersion(const RuleContext& ctx, const SearchState& st) {
+/// The complete graph of slot values and owners whose every slot is Owned or Connected.
+inline Immersion extract_immersion(const RuleContext& ctx, const std::vector<std::int32_t>& slot,
+                                   const IdMap<PatchId, NodeId>& owner) {
   Immersion im;
   im.layout = ctx.layout;
-  im.owner = st.owner;
-  for (std::size_t s = 0; s < ctx.slot_count(); ++s) {
-    const std::int32_t v = st.slot[s];
-    const NodeId n = ctx.slot_node[s];
-    const PatchId p = ctx.slot_patch[s];
-    if (v >= 0 && ctx.layout.cell(n) == ctx.inner[p]) im.edges.push_back({n, NodeId(v), p});
+  im.owner = owner;
+  // Slots are grouped by node in increasing node order, so the edges come out sorted by their
+  // inner node; only each node's few edges need sorting (by outer node, then patch), not the
+  // whole list (millions of edges on the largest piles).
+  for (NodeId n : ids<NodeId>(ctx.node_count())) {
+    const std::size_t first = im.edges.size();
+    const int b = ctx.slot_base[n];
+    const int e = b + static_cast<int>(ctx.b_patches[ctx.layout.cell(n)].size());
+    for (int s = b; s < e; ++s) {
+      const std::int32_t v = slot[s];
+      const PatchId p = ctx.slot_patch[s];
+      if (v >= 0 && ctx.layout.cell(n) == ctx.inner[p]) im.edges.push_back({n, NodeId(v), p});
+    }
+    std::sort(im.edges.begin() + static_cast<long>(first), im.edges.end());
   }
-  std::sort(im.edges.begin(), im.edges.end());
+  IMM_ASSERT(std::is_sorted(im.edges.begin(), im.edges.end()), "extract_immersion: edges out of order");
   return im;
+}
+inline Immersion extract_immersion(const RuleContext& ctx, const SearchState& st) {
+  return extract_immersion(ctx, st.slot, st.owner);
 }
 
 /// canonical_form over the flattened tables (see immersion_graph.h for the definition). With
@@ -331,18 +350,25 @@ class ImmersionSearch {
     }
 
     // Cartesian product, first solutions first.
+    // Every slot and patch lies in one group, so each product element overwrites all of them:
+    // one buffer of slot values and owners serves them all (no copy of the root state's reasons).
     std::vector<std::size_t> pick(groups.size(), 0);
     bool product_done = false;
+    std::vector<std::int32_t> slots;
+    IdMap<PatchId, NodeId> owners;
     while (!product_done) {
       if (options_.max_immersions != 0 && result.immersions.size() >= options_.max_immersions) break;
-      SearchState st = root;
+      if (slots.empty()) {
+        slots = root.slot;
+        owners = root.owner;
+      }
       for (std::size_t g = 0; g < groups.size(); ++g) {
         const GroupSolutions& sol = groups[g];
-        for (std::size_t i = 0; i < sol.slots.size(); ++i) st.slot[sol.slots[i]] = sol.values[pick[g]][i];
+        for (std::size_t i = 0; i < sol.slots.size(); ++i) slots[sol.slots[i]] = sol.values[pick[g]][i];
         const auto& patches = ctx_.group_patches[g];
-        for (std::size_t i = 0; i < patches.size(); ++i) st.owner[patches[i]] = sol.owners[pick[g]][i];
+        for (std::size_t i = 0; i < patches.size(); ++i) owners[patches[i]] = sol.owners[pick[g]][i];
       }
-      result.immersions.push_back(extract_immersion(ctx_, st));
+      result.immersions.push_back(extract_immersion(ctx_, slots, owners));
       std::size_t g = 0;
       while (g < groups.size() && ++pick[g] == groups[g].values.size()) pick[g++] = 0;
       product_done = g == groups.size();
@@ -377,6 +403,7 @@ class ImmersionSearch {
     }
     group_forms_.clear();
     failed_dead_ends_ = 0;
+    invalidate_choice(group);
 
     struct Frame {
       SearchState state;
@@ -397,6 +424,7 @@ class ImmersionSearch {
         Frame frame = std::move(stack.back());
         stack.pop_back();
         current = std::move(frame.state);
+        invalidate_choice(group);  // a state from a branch point: its changes were not logged
         depth = frame.depth;
         const Outcome o = apply(current, frame.decision, depth, out);
         if (o == Outcome::Budget) break;
@@ -587,7 +615,11 @@ class ImmersionSearch {
       record_dead_end(std::move(*c), depth, out);
       return false;
     }
-    if (!group_forms_.insert(canonical_form_impl(ctx_, extract_immersion(ctx_, st), group)).second) {
+    // De-duplication. When one immersion per group is asked for, the group's first solution is
+    // its last and cannot be a duplicate: its canonical form (linear in the graph, but a large
+    // share of a first-immersion search on big inputs) is not needed.
+    if (options_.max_immersions != 1 &&
+        !group_forms_.insert(canonical_form_impl(ctx_, extract_immersion(ctx_, st), group)).second) {
       ++stats_.duplicates;
       return false;
     }
@@ -600,6 +632,14 @@ class ImmersionSearch {
     return true;
   }
 
+  static IdMap<PatchId, int> positions_in_groups(const RuleContext& ctx) {
+    IdMap<PatchId, int> pos(ctx.patch_count(), -1);
+    for (const std::vector<PatchId>& patches : ctx.group_patches) {
+      for (std::size_t i = 0; i < patches.size(); ++i) pos[patches[i]] = static_cast<int>(i);
+    }
+    return pos;
+  }
+
   [[nodiscard]] bool is_free(NodeId n, const SearchState& st) const {
     const int b = ctx_.slot_base[n];
     const int e = b + static_cast<int>(ctx_.b_patches[ctx_.layout.cell(n)].size());
@@ -609,12 +649,11 @@ class ImmersionSearch {
     return true;
   }
 
-  /// representative_[n]: the first copy of n's cell interchangeable with n (n itself if none).
-  /// Computed lazily per cell (ensure_cell) for the state of the current select_variable call:
-  /// this only invalidates the previous state's values.
-  void compute_representatives(const SearchState& st, int group) {
-    (void)st;
-    (void)group;
+  /// representative_[n]: the first copy of n's cell interchangeable with n (n itself if none),
+  /// and touched_[n]. Cached per cell for the search's current state: ensure_cell recomputes a
+  /// cell whose stamp is stale. refresh_choice makes stale every cell the worklist logged as
+  /// dirty (dirty_cells()), invalidate_choice every cell.
+  void make_all_cells_stale() {
     if (++epoch_ == 0) {  // wrapped: forget every stamp
       std::fill(cell_epoch_.begin(), cell_epoch_.end(), 0);
       epoch_ = 1;
@@ -643,10 +682,8 @@ class ImmersionSearch {
     }
   }
 
-  /// The open variable of the group with the fewest options. @return false when the group is
-  /// complete.
   /// The copies of p's inner cell that may still own p, one per class of free identical copies
-  /// (compute_representatives). @return their number; appended to `out` when given.
+  /// (ensure_cell). @return their number; appended to `out` when given.
   std::size_t owner_options(const SearchState& st, PatchId p, std::vector<NodeId>* out,
                             bool* touched = nullptr) const {
     std::size_t count = 0;
@@ -678,18 +715,150 @@ class ImmersionSearch {
     return count;
   }
 
-  bool select_variable(const SearchState& st, int group, Variable& best) {
-    compute_representatives(st, group);
-    // Key: (tier, option count), smaller first; a variable without options comes first of all.
-    // Tier 0: the variable involves a node already touched (it owns a patch or has an edge), i.e.
-    // it continues a partial sheet; tier 1: it would start a new one (focus_ only).
+  // ---- the choice of the next variable ----
+  // Every open variable has a key (tier, option count), smaller first, 0 for a variable without
+  // options. Tier 0: the variable involves a node already touched (it owns a patch or has an
+  // edge), i.e. it continues a partial sheet; tier 1: it would start a new one (focus_ only).
+  // The variable chosen is, in the group's patch order (owner(p) first, then partner(n, p) for
+  // the declined nodes of p's inner cell, then of its outer cell, lowest node first), the first
+  // one with a key <= 1 if there is one, otherwise the first one with the least key.
+  //
+  // A variable of patch p reads only the slots of the copies of p's two sides (through the
+  // symmetry classes of ensure_cell). So patch_key(p), the key of the variable p contributes
+  // (the first of p's variables with key <= 1, else the first with p's least key), changes only
+  // when a slot of a copy of inner(p) or outer(p) changes, and the choice is the first patch of
+  // the group with a key <= 1, else the first with the least key: a minimum over a segment tree
+  // of the patch keys (choice_tree_) that is refreshed for the B-patches of the cells the last
+  // steps changed (Worklist::dirty_cells) instead of rescanning every patch per state: on piles
+  // of overlapping parts that rescan was 60-70 % of the search (issue 19). States that were not
+  // reached by logged edits of the indexed state (a branch alternative popped from the stack, a
+  // new group) rebuild the tree from scratch. The rescan (scan_variables) is kept: with
+  // SearchOptions::incremental_choice off it is the choice itself, and at a real branch point it
+  // also collects the tied candidates try_options probes.
+  static constexpr std::size_t kNoVariable = std::numeric_limits<std::size_t>::max();
+
+  [[nodiscard]] std::size_t key_of(std::size_t count, bool touched) const {
     constexpr std::size_t kTier = std::size_t{1} << 40;
-    std::size_t best_key = std::numeric_limits<std::size_t>::max();
-    const auto value = [&](NodeId n, PatchId p) { return st.slot[ctx_.slot(n, p)]; };
-    const auto key_of = [&](std::size_t count, bool touched) -> std::size_t {
-      if (count == 0) return 0;
-      return (focus_ && !touched ? kTier : 0) + count;
+    if (count == 0) return 0;
+    return (focus_ && !touched ? kTier : 0) + count;
+  }
+
+  /// The key of the variable patch p contributes (see above), kNoVariable when p has no open
+  /// variable; that variable in `out` when given (options not filled).
+  std::size_t patch_key(const SearchState& st, PatchId p, Variable* out) const {
+    std::size_t best = kNoVariable;
+    const auto consider = [&](std::size_t key, bool is_owner, NodeId n) {
+      if (key >= best) return;
+      best = key;
+      if (out) *out = Variable{is_owner, p, n, {}};
     };
+    if (!st.owner[p].is_valid()) {
+      bool touched = false;
+      const std::size_t count = owner_options(st, p, nullptr, focus_ ? &touched : nullptr);
+      consider(key_of(count, touched), true, NodeId());
+    }
+    for (CellId side : {ctx_.inner[p], ctx_.outer[p]}) {
+      if (best <= 1 || !side.is_valid()) break;
+      const CellId other = side == ctx_.inner[p] ? ctx_.outer[p] : ctx_.inner[p];
+      std::size_t count = 0;
+      bool counted = false;
+      for (int n = ctx_.first_node(side).value(); n < ctx_.node_end(side) && best > 1; ++n) {
+        if (st.slot[ctx_.slot(NodeId(n), p)] != kDeclined) continue;
+        if (!counted) {
+          count = partner_options(st, p, other, nullptr);  // the same for every n
+          counted = true;
+        }
+        if (focus_) ensure_cell(side, st);
+        consider(key_of(count, focus_ && touched_[n]), false, NodeId(n));
+      }
+    }
+    return best;
+  }
+
+  /// The next state's choice must be recomputed from scratch (for `group`).
+  void invalidate_choice(int group) {
+    choice_valid_ = false;
+    choice_group_ = group;
+  }
+
+  void set_choice_key(std::size_t pos, std::size_t key) {
+    std::size_t i = pos + choice_leaves_;
+    choice_tree_[i] = key;
+    for (i /= 2; i >= 1; i /= 2) choice_tree_[i] = std::min(choice_tree_[2 * i], choice_tree_[2 * i + 1]);
+  }
+
+  /// Brings choice_tree_ up to date with `st`: a full rebuild when invalid, otherwise the patch
+  /// keys of the group's B-patches of every dirty cell.
+  void refresh_choice(const SearchState& st, int group) {
+    const std::vector<PatchId>& patches = ctx_.group_patches[group];
+    if (!choice_valid_ || choice_group_ != group) {
+      worklist_.clear_dirty();
+      make_all_cells_stale();
+      choice_leaves_ = 1;
+      while (choice_leaves_ < patches.size()) choice_leaves_ *= 2;
+      choice_tree_.assign(2 * choice_leaves_, kNoVariable);
+      for (std::size_t i = 0; i < patches.size(); ++i) {
+        choice_tree_[choice_leaves_ + i] = patch_key(st, patches[i], nullptr);
+      }
+      for (std::size_t i = choice_leaves_ - 1; i >= 1; --i) {
+        choice_tree_[i] = std::min(choice_tree_[2 * i], choice_tree_[2 * i + 1]);
+      }
+      choice_valid_ = true;
+      choice_group_ = group;
+      ++stats_.choice_rebuilds;
+      return;
+    }
+    const std::vector<CellId>& dirty = worklist_.dirty_cells();
+    for (CellId c : dirty) cell_epoch_[c.index()] = 0;  // stale (epochs start at 1)
+    for (CellId c : dirty) {
+      if (ctx_.cell_group[c] != group) continue;
+      for (PatchId p : ctx_.b_patches[c]) {
+        if (refreshed_[p.index()] == refresh_stamp_) continue;  // both sides dirty
+        refreshed_[p.index()] = refresh_stamp_;
+        set_choice_key(static_cast<std::size_t>(patch_position_[p]), patch_key(st, p, nullptr));
+      }
+    }
+    if (++refresh_stamp_ == 0) {
+      std::fill(refreshed_.begin(), refreshed_.end(), 0);
+      refresh_stamp_ = 1;
+    }
+    worklist_.clear_dirty();
+  }
+
+  /// The open variable of the group chosen by the order above, with its options (one per
+  /// symmetry class). @return false when the group is complete.
+  bool select_variable(const SearchState& st, int group, Variable& best) {
+    ties_.clear();
+    if (!options_.incremental_choice) {
+      make_all_cells_stale();
+      return scan_variables(st, group, best);
+    }
+    refresh_choice(st, group);
+    const std::size_t least = choice_tree_[1];
+    if (least == kNoVariable) return false;
+    // The leftmost patch whose key is <= max(1, least).
+    const std::size_t bound = std::max<std::size_t>(least, 1);
+    std::size_t i = 1;
+    while (i < choice_leaves_) i = choice_tree_[2 * i] <= bound ? 2 * i : 2 * i + 1;
+    const PatchId p = ctx_.group_patches[group][i - choice_leaves_];
+    const std::size_t key = patch_key(st, p, &best);
+    IMM_ASSERT(key == choice_tree_[i], "immersion search: stale key in the choice of the next variable");
+    fill_options(st, best);
+    if (best.options.size() > 1) {
+      drop_symmetric_options(st, best);
+      // A real branch point: try_options also probes the scan's tied candidates.
+      if (best.options.size() > 1) return scan_variables(st, group, best);
+    }
+    return true;
+  }
+
+  /// The choice by a scan of every open variable of the group (the same variable as
+  /// select_variable's index), collecting up to max_ties_ others with the same key in ties_.
+  /// @return false when the group is complete.
+  bool scan_variables(const SearchState& st, int group, Variable& best) {
+    ties_.clear();
+    std::size_t best_key = kNoVariable;
+    const auto value = [&](NodeId n, PatchId p) { return st.slot[ctx_.slot(n, p)]; };
     const auto done = [&] { return best_key <= 1; };
     bool found = false;
     Variable choice;
@@ -820,6 +989,15 @@ class ImmersionSearch {
   mutable std::vector<char> touched_ = std::vector<char>(ctx_.node_count(), 0);
   mutable std::vector<std::uint32_t> cell_epoch_ = std::vector<std::uint32_t>(ctx_.cell_count(), 0);
   std::uint32_t epoch_ = 0;
+  // The choice of the next variable (refresh_choice): a min segment tree over the patch keys of
+  // the group, leaves in group order; patch_position_[p] is p's index in its group's patches.
+  std::vector<std::size_t> choice_tree_;
+  std::size_t choice_leaves_ = 1;
+  bool choice_valid_ = false;
+  int choice_group_ = -1;
+  IdMap<PatchId, int> patch_position_ = positions_in_groups(ctx_);
+  std::vector<std::uint32_t> refreshed_ = std::vector<std::uint32_t>(ctx_.patch_count(), 0);
+  std::uint32_t refresh_stamp_ = 1;
   std::vector<std::int32_t> label_ = std::vector<std::int32_t>(ctx_.node_count(), -1);
   std::vector<NodeId> order_;
   std::vector<std::vector<std::int32_t>> kept_codes_;

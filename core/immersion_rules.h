@@ -247,7 +247,8 @@ struct SearchState {
 class Worklist {
  public:
   explicit Worklist(const RuleContext& ctx)
-      : ctx_(&ctx), patch_queued_(ctx.patch_count(), 0), arc_queued_(ctx.arc_count(), 0) {}
+      : ctx_(&ctx), patch_queued_(ctx.patch_count(), 0), arc_queued_(ctx.arc_count(), 0),
+        cell_dirty_(ctx.cell_count(), 0) {}
 
   void push_patch(PatchId p) {
     if (!patch_queued_[p.index()]) {
@@ -261,11 +262,23 @@ class Worklist {
       arcs_.push_back(a);
     }
   }
-  /// A slot of p changed: p and every arc with a junction on p must be revisited.
+  /// A slot of p changed: p and every arc with a junction on p must be revisited, and the two
+  /// sides of p are recorded as dirty cells (dirty_cells()).
   void touch(PatchId p) {
     push_patch(p);
     for (ArcId a : ctx_->patch_arcs[p]) push_arc(a);
     if (continue_sheets_) push_sheet(p);
+    mark_dirty(ctx_->inner[p]);
+    if (ctx_->outer[p].is_valid()) mark_dirty(ctx_->outer[p]);
+  }
+  /// The cells with a slot changed since the last clear_dirty(), in any state edited through this
+  /// worklist (the search's current state and its trial copies alike: an over-approximation of the
+  /// cells whose slots differ). clear() keeps them: the search reads them to refresh its choice of
+  /// the next variable only where something changed.
+  [[nodiscard]] const std::vector<CellId>& dirty_cells() const { return dirty_; }
+  void clear_dirty() {
+    for (CellId c : dirty_) cell_dirty_[c.index()] = 0;
+    dirty_.clear();
   }
   /// Also queue touched patches for propagate_sheet_continuation (a search option, not a rule).
   void set_continue_sheets(bool on) { continue_sheets_ = on; }
@@ -305,6 +318,12 @@ class Worklist {
   }
 
  private:
+  void mark_dirty(CellId c) {
+    if (!cell_dirty_[c.index()]) {
+      cell_dirty_[c.index()] = 1;
+      dirty_.push_back(c);
+    }
+  }
   void push_sheet(PatchId p) {
     if (sheet_queued_.empty()) sheet_queued_.assign(ctx_->patch_count(), 0);
     if (!sheet_queued_[p.index()]) {
@@ -321,6 +340,8 @@ class Worklist {
   bool continue_sheets_ = false;
   std::vector<PatchId> sheet_;  ///< a stack: the newest sheet is continued first
   std::vector<char> sheet_queued_;
+  std::vector<CellId> dirty_;
+  std::vector<char> cell_dirty_;
 };
 
 /// The only way the search changes a state: own / decline / connect, each checked against the
@@ -554,16 +575,21 @@ inline bool propagate_rule2(StateEditor& ed, PatchId p) {
   const RuleContext& ctx = ed.ctx();
   const CellId inner = ctx.inner[p], outer = ctx.outer[p];
   const auto process_side = [&](CellId side, CellId other) {
+    // The possible partners are the same for every declined node of the side: counted once, and
+    // again only after an edge was made (which takes one of them).
+    NodeId only;
+    int options = -1;
     for (int n = ctx.first_node(side).value(); n < ctx.node_end(side); ++n) {
       if (ed.value(NodeId(n), p) != kDeclined) continue;
-      NodeId only;
-      int options = 0;
-      if (other.is_valid()) {
-        for (int m = ctx.first_node(other).value(); m < ctx.node_end(other); ++m) {
-          const std::int32_t v = ed.value(NodeId(m), p);
-          if (v == kDeclined || v == kUndecided) {
-            only = NodeId(m);
-            ++options;
+      if (options < 0) {
+        options = 0;
+        if (other.is_valid()) {
+          for (int m = ctx.first_node(other).value(); m < ctx.node_end(other); ++m) {
+            const std::int32_t v = ed.value(NodeId(m), p);
+            if (v == kDeclined || v == kUndecided) {
+              only = NodeId(m);
+              ++options;
+            }
           }
         }
       }
@@ -578,7 +604,10 @@ inline bool propagate_rule2(StateEditor& ed, PatchId p) {
         }
         return ed.fail(2, ed.reason(NodeId(n), p).arc, msg, {NodeId(n)}, {p});
       }
-      if (options == 1 && !ed.connect(NodeId(n), only, p, Reason{2, -1})) return false;
+      if (options == 1) {
+        if (!ed.connect(NodeId(n), only, p, Reason{2, -1})) return false;
+        options = -1;
+      }
     }
     return true;
   };
@@ -606,25 +635,33 @@ inline bool propagate_sheet_continuation(StateEditor& ed, PatchId p) {
   };
   const auto process_side = [&](CellId side, CellId other) {
     if (!other.is_valid()) return true;
+    // The candidates are the same for every node of the side: examined once, and again only
+    // after an edge was made (which takes the first of them).
+    NodeId first;
+    bool symmetric = true, examined = false;
     for (int n = ctx.first_node(side).value(); n < ctx.node_end(side); ++n) {
       if (ed.value(NodeId(n), p) != kDeclined || is_free(NodeId(n))) continue;
-      NodeId first;
-      bool symmetric = true;
-      const std::size_t width = ctx.b_patches[other].size();
-      for (int m = ctx.first_node(other).value(); m < ctx.node_end(other) && symmetric; ++m) {
-        const std::int32_t v = ed.value(NodeId(m), p);
-        if (v != kDeclined && v != kUndecided) continue;
-        if (!is_free(NodeId(m))) {
-          symmetric = false;
-        } else if (!first.is_valid()) {
-          first = NodeId(m);
-        } else {
-          const auto a = st.slot.begin() + ctx.slot_base[first];
-          symmetric = std::equal(a, a + static_cast<long>(width), st.slot.begin() + ctx.slot_base[NodeId(m)]);
+      if (!examined) {
+        examined = true;
+        first = NodeId();
+        symmetric = true;
+        const std::size_t width = ctx.b_patches[other].size();
+        for (int m = ctx.first_node(other).value(); m < ctx.node_end(other) && symmetric; ++m) {
+          const std::int32_t v = ed.value(NodeId(m), p);
+          if (v != kDeclined && v != kUndecided) continue;
+          if (!is_free(NodeId(m))) {
+            symmetric = false;
+          } else if (!first.is_valid()) {
+            first = NodeId(m);
+          } else {
+            const auto a = st.slot.begin() + ctx.slot_base[first];
+            symmetric = std::equal(a, a + static_cast<long>(width), st.slot.begin() + ctx.slot_base[NodeId(m)]);
+          }
         }
       }
       if (!symmetric || !first.is_valid()) continue;  // a choice, or Rule 2's conflict
       if (!ed.connect(NodeId(n), first, p, Reason{0, -1})) return false;
+      examined = false;
     }
     return true;
   };
@@ -633,19 +670,6 @@ inline bool propagate_sheet_continuation(StateEditor& ed, PatchId p) {
 }
 
 // ---- arc propagators ---------------------------------------------------------------------------
-
-/// Calls f(k, x) for every wedge k of the arc that lies in a cell and every node x of that cell.
-template <class F>
-bool for_each_wedge_node(const RuleContext& ctx, const ArcView& arc, F&& f) {
-  for (int k = 0; k < 4; ++k) {
-    const CellId c = arc.cell[k];
-    if (!c.is_valid()) continue;
-    for (int n = ctx.first_node(c).value(); n < ctx.node_end(c); ++n) {
-      if (!f(k, NodeId(n))) return false;
-    }
-  }
-  return true;
-}
 
 /// A node cannot own both B-patches bounding one of its wedges (its two geometric neighbours w.r.t.
 /// the cell at this arc): the local piece would be a single wedge, which is not a manifold
@@ -656,13 +680,31 @@ inline bool propagate_rule5(StateEditor& ed, ArcId a) {
   const RuleContext& ctx = ed.ctx();
   const ArcView& arc = ctx.arcs[a];
   const Reason why{5, a.value()};
-  return for_each_wedge_node(ctx, arc, [&](int k, NodeId x) {
+  for (int k = 0; k < 4; ++k) {
+    const CellId c = arc.cell[k];
+    if (!c.is_valid()) continue;
     const PatchId left = arc.patch[k], right = arc.patch[(k + 1) % 4];
-    if (left == right) return ed.decline(x, left, why);
-    if (ed.value(x, left) == kOwned) return ed.decline(x, right, why);
-    if (ed.value(x, right) == kOwned) return ed.decline(x, left, why);
-    return true;
-  });
+    if (left == right) {
+      for (int n = ctx.first_node(c).value(); n < ctx.node_end(c); ++n) {
+        if (!ed.decline(NodeId(n), left, why)) return false;
+      }
+      continue;
+    }
+    // A slot is Owned exactly when its node is the patch's recorded owner (StateEditor::own), so
+    // only the owners of the two junctions can own one of them: no scan of the wedge's copies.
+    // Declines create no owner, so the owners stay the same during the loop; they are handled
+    // in node order, as a scan of the copies would.
+    NodeId owns_left = ed.state().owner[left], owns_right = ed.state().owner[right];
+    if (owns_left.is_valid() && ctx.layout.cell(owns_left) != c) owns_left = NodeId();
+    if (owns_right.is_valid() && ctx.layout.cell(owns_right) != c) owns_right = NodeId();
+    if (owns_left.is_valid() && owns_right.is_valid() && owns_right < owns_left) {
+      if (!ed.decline(owns_right, left, why)) return false;
+      owns_right = NodeId();
+    }
+    if (owns_left.is_valid() && !ed.decline(owns_left, right, why)) return false;
+    if (owns_right.is_valid() && owns_right != owns_left && !ed.decline(owns_right, left, why)) return false;
+  }
+  return true;
 }
 
 /// Across junction k+1 (patch q = P_{k+1}), wedge k of cell C_k meets wedge k+1 of cell C_{k+1}.
@@ -838,11 +880,24 @@ inline NodeId glued(const RuleContext& ctx, const SearchState& st, NodeId n, Pat
   const std::int32_t v = st.slot[ctx.slot(n, p)];
   return v >= 0 ? NodeId(v) : NodeId();
 }
-/// The nodes of a cell, as ids.
-inline std::vector<NodeId> nodes_of(const RuleContext& ctx, CellId c) {
-  std::vector<NodeId> out;
-  for (int n = ctx.first_node(c).value(); n < ctx.node_end(c); ++n) out.push_back(NodeId(n));
-  return out;
+/// The nodes of a cell, as a range of ids (no allocation: the predicates run over every arc of
+/// every accepted graph, a million nodes on the largest piles of issue 19).
+struct NodeRange {
+  struct iterator {
+    int n;
+    NodeId operator*() const { return NodeId(n); }
+    iterator& operator++() {
+      ++n;
+      return *this;
+    }
+    bool operator!=(const iterator& o) const { return n != o.n; }
+  };
+  int first, last;
+  [[nodiscard]] iterator begin() const { return {first}; }
+  [[nodiscard]] iterator end() const { return {last}; }
+};
+inline NodeRange nodes_of(const RuleContext& ctx, CellId c) {
+  return NodeRange{ctx.first_node(c).value(), ctx.node_end(c)};
 }
 
 inline std::optional<Conflict> check_rule4(const RuleContext& ctx, const SearchState& st, int group) {
