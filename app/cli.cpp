@@ -912,19 +912,42 @@ Json mesh_json(const Prepared& p, const SearchResult& r, std::size_t k, const di
   return j;
 }
 
-/// Meshes immersion k and writes the requested outputs (paths in `cl`: -o, --embedding, --svg,
-/// --json). @return the exit code.
-int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::size_t k,
-                   const dim2::MeshOptions& options, const CommandLine& cl) {
+/// Writes the outputs `mesh` asks for (paths in `cl`: -o, --embedding, --svg, --json) of the
+/// mesh of immersion k. @return the exit code.
+int write_mesh_outputs(Session& s, const Prepared& p, const SearchResult& r, std::size_t k,
+                       const dim2::MeshOptions& options, const dim2::MeshResult& m, const CommandLine& cl) {
+  if (auto path = cl.value("-o"); path && !s.write(*path, dim2::format_medit_2d(m.mesh), "the mesh (Medit, reference = graph node)")) {
+    return kExitInternalError;
+  }
+  if (auto path = cl.value("--embedding");
+      path && !s.write(*path, dim2::format_embedding(m.embedding), "the embedding of the input vertices")) {
+    return kExitInternalError;
+  }
+  if (auto path = cl.value("--svg");
+      path && !s.write(*path, dim2::format_mesh_svg(*p.complex, r.immersions[k], m), "the mesh pulled apart (SVG)")) {
+    return kExitInternalError;
+  }
+  if (auto path = cl.value("--json");
+      path && !s.write(*path, mesh_json(p, r, k, options, m, cl, s).dump(2) + "\n", "mesh counts and timings (JSON)")) {
+    return kExitInternalError;
+  }
+  return kExitOk;
+}
+
+/// Meshes immersion k of a prepared input with `mesh`'s messages: the defects and a --json
+/// failure report when it cannot be meshed, else the "meshed" line and the embedding warning.
+/// @return kExitOk with `m` set, or the failure's exit code.
+int mesh_one(Session& s, const Prepared& p, const SearchResult& r, std::size_t k, const dim2::MeshOptions& options,
+             const std::optional<std::string>& json_path, dim2::MeshResult& m) {
   dim2::MeshOptions mesh_options = options;
-  if (s.show_progress()) mesh_options.progress = [&s](const std::string& m) { s.err() << "immerse: mesh: " << m << '\n'; };
-  const dim2::MeshResult m =
+  if (s.show_progress()) mesh_options.progress = [&s](const std::string& message) { s.err() << "immerse: mesh: " << message << '\n'; };
+  m =
       s.timed("mesh", [&] { return dim2::mesh_immersion(*p.complex, r.immersions[k], mesh_options); });
   if (!m.report.ok()) {
     s.err() << "immerse: cannot mesh '" << p.path << "': " << plural(m.report.defects.size(), "defect") << '\n'
             << m.report.summary(kMaxDefectLines);
     s.set_counts("meshing failed (" + plural(m.report.defects.size(), "defect") + ")");
-    if (auto json_path = cl.value("--json")) {
+    if (json_path) {
       Json j = Json::object();
       j["input"] = input_json(p);
       j["status"] = "invalid-input";
@@ -942,33 +965,81 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
           << plural(m.stats.background_triangles, "triangle") << ", " << m.stats.cut_triangles
           << " cut by the input)\n";
   warn_embedding_error(s, m.stats.embedding_error);
-  if (auto path = cl.value("-o"); path && !s.write(*path, dim2::format_medit_2d(m.mesh), "the mesh (Medit, reference = graph node)")) {
-    return kExitInternalError;
+  return kExitOk;
+}
+
+/// What `mesh`, `deform` and `weights` share in 2D (mesh_input_curves): reads and builds the
+/// input, searches, meshes immersion k, with `mesh`'s messages, exit codes and --json failure
+/// reports; then hands the prepared input, the search and the mesh to `use`.
+int mesh_prepared_curves(Session& s, const CommandLine& cl, const std::string& command, const SearchRequest& request,
+                         const dim2::MeshOptions& options, std::size_t k,
+                         const std::function<int(const Prepared&, const SearchResult&, const dim2::MeshResult&)>& use) {
+  Prepared p;
+  p.path = cl.positional[0];
+  const auto json_path = cl.value("--json");
+  if (const int code = prepare_complex_or_report(s, p, json_path, [&] { return prepare_curves(s, p); }); code != kExitOk) return code;
+  const SearchResult r = run_search(s, *p.complex, request);
+  if (r.status != ImmersionStatus::Immersible) {
+    s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
+    print_no_immersion(s, p.path, r);
+    if (json_path && !s.write(*json_path, search_json(p, r, s).dump(2) + "\n", "report")) return kExitInternalError;
+    print_written(s);
+    return kExitNotImmersible;
   }
-  if (auto path = cl.value("--embedding");
-      path && !s.write(*path, dim2::format_embedding(m.embedding), "the embedding of the input vertices")) {
-    return kExitInternalError;
+  if (r.immersions.size() <= k) {
+    s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
+    return usage_error(s.env(), command,
+                       "--immersion " + std::to_string(k) + ": '" + p.path + "' has only " +
+                           plural(r.immersions.size(), "immersion") + " (numbered from 0)" +
+                           (r.complete ? "" : "; the search stopped early, raise --max-states"));
   }
-  if (auto path = cl.value("--svg");
-      path && !s.write(*path, dim2::format_mesh_svg(*p.complex, r.immersions[k], m), "the mesh pulled apart (SVG)")) {
-    return kExitInternalError;
+  dim2::MeshResult m;
+  if (const int code = mesh_one(s, p, r, k, options, json_path, m); code != kExitOk) {
+    print_written(s);
+    return code;
   }
-  if (auto path = cl.value("--json");
-      path && !s.write(*path, mesh_json(p, r, k, mesh_options, m, cl, s).dump(2) + "\n", "mesh counts and timings (JSON)")) {
-    return kExitInternalError;
+  return use(p, r, m);
+}
+
+}  // namespace
+
+int parse_mesh_options(const CliEnvironment& env, const CommandLine& cl, const std::string& command, bool surface,
+                       dim2::MeshOptions& options, dim3::MeshOptions3& options3) {
+  if (cl.has("--resolution") && cl.has("--background")) {
+    return usage_error(env, command, "--resolution and --background exclude each other");
+  }
+  if (auto n = cl.integer("--resolution")) options.resolution = static_cast<int>(*n);
+  if (auto v = cl.value("--background")) options.background_path = *v;
+  if (!surface) return kExitOk;
+  if (options.background_path) {
+    if (!dim3::is_tet_mesh_extension(*options.background_path))
+      return usage_error(env, command, "--background " + *options.background_path +
+                                           ": expected a .veg, .mesh, .node, .ele or .msh tet mesh");
+    options3.background_path = options.background_path;
+  }
+  if (cl.has("--resolution")) {
+    if (const std::string error = check_resolution3(options.resolution); !error.empty()) return usage_error(env, command, error);
+    options3.resolution = options.resolution;
   }
   return kExitOk;
 }
 
+int mesh_input_curves(Session& s, const CommandLine& cl, const std::string& command, const SearchRequest& request,
+                      const dim2::MeshOptions& options, std::size_t k, const std::function<int(const MeshedCurves&)>& use) {
+  return mesh_prepared_curves(s, cl, command, request, options, k,
+                              [&](const Prepared& p, const SearchResult& r, const dim2::MeshResult& m) {
+                                return use(MeshedCurves{p.curves, *p.complex, r, k, m});
+                              });
+}
+
+namespace {
 
 int command_mesh(Session& s, const CommandLine& cl) {
   const CliEnvironment& env = s.env();
+  const bool surface = is_surface_file(cl.positional[0]);
   dim2::MeshOptions options;
-  if (cl.has("--resolution") && cl.has("--background")) {
-    return usage_error(env, "mesh", "--resolution and --background exclude each other");
-  }
-  if (auto n = cl.integer("--resolution")) options.resolution = static_cast<int>(*n);
-  if (auto v = cl.value("--background")) options.background_path = *v;
+  dim3::MeshOptions3 options3;
+  if (const int code = parse_mesh_options(env, cl, "mesh", surface, options, options3); code != kExitOk) return code;
   options.conforming = cl.has("--conforming");
   std::size_t k = 0;
   if (auto n = cl.integer("--immersion")) k = static_cast<std::size_t>(*n);
@@ -984,16 +1055,8 @@ int command_mesh(Session& s, const CommandLine& cl) {
   bound_outputs(s, cl, request);
   const bool all = cl.has("--all");
   request.max_immersions = all ? 0 : k + 1;
-  if (is_surface_file(cl.positional[0])) {
-    dim3::MeshOptions3 options3;
+  if (surface) {
     options3.method = options.method;
-    if (options.background_path) options3.background_path = options.background_path;
-    if (cl.has("--resolution")) {
-      if (const std::string error = check_resolution3(options.resolution); !error.empty()) {
-        return usage_error(env, "mesh", error);
-      }
-      options3.resolution = options.resolution;
-    }
     if (auto n = cl.integer("--threads")) options3.threads = static_cast<unsigned>(*n);
     if (all && cl.has("--immersion")) return usage_error(env, "mesh", "--all and --immersion exclude each other");
     return mesh_surface(s, cl, request, options3, k, all);
@@ -1002,28 +1065,12 @@ int command_mesh(Session& s, const CommandLine& cl) {
     if (cl.has(option)) return usage_error(env, "mesh", std::string(option) + " is for 3D surfaces only");
 
   s.enable_summary();
-  Prepared p;
-  p.path = cl.positional[0];
-  const auto json_path = cl.value("--json");
-  if (const int code = prepare_complex_or_report(s, p, json_path, [&] { return prepare_curves(s, p); }); code != kExitOk) return code;
-  const SearchResult r = run_search(s, *p.complex, request);
-  if (r.status != ImmersionStatus::Immersible) {
-    s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
-    print_no_immersion(s, p.path, r);
-    if (json_path && !s.write(*json_path, search_json(p, r, s).dump(2) + "\n", "report")) return kExitInternalError;
-    print_written(s);
-    return kExitNotImmersible;
-  }
-  if (r.immersions.size() <= k) {
-    s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
-    return usage_error(env, "mesh",
-                       "--immersion " + std::to_string(k) + ": '" + p.path + "' has only " +
-                           plural(r.immersions.size(), "immersion") + " (numbered from 0)" +
-                           (r.complete ? "" : "; the search stopped early, raise --max-states"));
-  }
-  const int code = mesh_and_write(s, p, r, k, options, cl);
-  print_written(s);
-  return code;
+  return mesh_prepared_curves(s, cl, "mesh", request, options, k,
+                              [&](const Prepared& p, const SearchResult& r, const dim2::MeshResult& m) {
+                                const int code = write_mesh_outputs(s, p, r, k, options, m, cl);
+                                print_written(s);
+                                return code;
+                              });
 }
 
 int command_generate(Session& s, const CommandLine& cl) {
@@ -1117,7 +1164,9 @@ int command_default(Session& s) {
     CommandLine outputs;
     outputs.values = {{"-o", at("mesh.mesh")}, {"--embedding", at("mesh.emb")}, {"--svg", at("mesh.svg")},
                       {"--json", at("mesh.json")}};
-    code = mesh_and_write(s, p, r, 0, dim2::MeshOptions{}, outputs);
+    dim2::MeshResult m;
+    code = mesh_one(s, p, r, 0, dim2::MeshOptions{}, outputs.value("--json"), m);
+    if (code == kExitOk) code = write_mesh_outputs(s, p, r, 0, dim2::MeshOptions{}, m, outputs);
   }
   s.out() << "files written into " << dir.string() << "/:\n";
   print_written(s);

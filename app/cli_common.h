@@ -32,7 +32,11 @@
 #include "core/diagnostics.h"
 #include "core/perturbation.h"
 #include "core/graph_search.h"
+#include "dim2/complex2.h"
+#include "dim2/curves.h"
+#include "dim2/mesh2.h"
 #include "dim3/mesh3.h"
+#include "dim3/surface.h"
 
 #include <nlohmann/json.hpp>
 
@@ -87,6 +91,45 @@ inline std::string check_resolution3(int resolution) {
   return "--resolution " + std::to_string(resolution) + ": at most " + std::to_string(kMaxResolution3) +
          " grid cubes along the longest side in 3D";
 }
+
+// ---- meshing an input: what `mesh`, `deform` and `weights` share ------------------------------
+
+class Session;
+
+/// --resolution and --background into the mesh options, checked as `mesh` checks them (they
+/// exclude each other; in 3D the grid resolution is bounded and the background must be a tet
+/// mesh file). `surface`: the input is a 3D surface (is_surface_file). @return kExitOk, or the
+/// usage-error code after printing the message (cli.cpp).
+int parse_mesh_options(const CliEnvironment& env, const CommandLine& cl, const std::string& command, bool surface,
+                       dim2::MeshOptions& options, dim3::MeshOptions3& options3);
+
+/// One meshed immersion, as the commands that mesh an input get it.
+struct MeshedCurves {
+  const dim2::CurveSet& curves;   ///< the input as read
+  const dim2::Complex2& complex;
+  const SearchResult& search;
+  std::size_t immersion;          ///< the index of the meshed immersion in search.immersions
+  const dim2::MeshResult& mesh;
+};
+struct MeshedSurface {
+  const dim3::Surface& surface;   ///< the input as read
+  const SearchResult& search;
+  std::size_t immersion;
+  const dim3::MeshResult3& mesh;
+};
+
+/// Reads IN (cl.positional[0]), builds its cell complex, searches its immersions and meshes
+/// immersion k, exactly as `immerse mesh` does: the same messages, notes, exit codes (2 invalid
+/// input or a mesh that cannot be built, 3 not immersible, 64 no immersion k) and --json failure
+/// reports; then calls `use` on the mesh and returns its code (cli.cpp).
+int mesh_input_curves(Session& s, const CommandLine& cl, const std::string& command, const SearchRequest& request,
+                      const dim2::MeshOptions& options, std::size_t k, const std::function<int(const MeshedCurves&)>& use);
+/// The same for a 3D surface (helper boxes for self-connecting cells unless --no-helper-boxes);
+/// `all`: every immersion found, `use` called once per mesh until one returns non-zero
+/// (cli_surface.cpp).
+int mesh_input_surface(Session& s, const CommandLine& cl, const std::string& command, const SearchRequest& request,
+                       const dim3::MeshOptions3& options, std::size_t k, bool all,
+                       const std::function<int(const MeshedSurface&)>& use);
 
 // ---- one run: timings, counts, written files -------------------------------------------------
 

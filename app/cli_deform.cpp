@@ -319,24 +319,13 @@ int run_weights(Session& s, const CommandLine& cl, const SimplexMesh<D>& mesh, c
 
 /// The mesh deformed: the unglued mesh, or with --glued the baseline (references: -1).
 template <int D>
-int on_mesh(Session& s, const CommandLine& cl, const std::string& command, const DeformableInput<D>& in,
-            const std::vector<int>& unglued_reference, const InputOps& ops) {
-  const HandleFile file = read_handles(*cl.value("--handles"), D);
-  if (!file.error.empty()) {
-    s.err() << "immerse " << command << ": " << file.error << '\n';
-    return kExitInvalidInput;
-  }
+int on_mesh(Session& s, const CommandLine& cl, const std::string& command, const HandleFile& file,
+            const DeformableInput<D>& in, const std::vector<int>& unglued_reference, const InputOps& ops) {
   const bool glued = cl.has("--glued");
   const SimplexMesh<D>& mesh = glued ? in.glued.mesh : in.unglued;
   const std::vector<int> reference = glued ? std::vector<int>(static_cast<std::size_t>(mesh.element_count()), -1) : unglued_reference;
   if (command == "weights") return run_weights<D>(s, cl, mesh, reference, file);
   return run_deform<D>(s, cl, mesh, glued ? in.glued_embedding : in.unglued_embedding, reference, file, ops);
-}
-
-int no_immersion(Session& s, const std::string& command, const std::string& path, const SearchResult& r) {
-  s.err() << "immerse " << command << ": '" << path << "' has no immersion to mesh (" << to_string(r.status)
-          << "); 'immerse immersions' explains why\n";
-  return kExitNotImmersible;
 }
 
 }  // namespace
@@ -351,87 +340,52 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     if (method != "arap" && method != "fem" && method != "fem-static")
       return usage_error(s.env(), command, "--method expects 'arap', 'fem' or 'fem-static', got '" + method + "'");
   }
-  SearchOptions search;
+  // The mesh is prepared as `immerse mesh` prepares it (the same options, checks and messages).
+  const bool surface = is_surface_file(path);
+  dim2::MeshOptions options;
+  dim3::MeshOptions3 options3;
+  if (const int code = parse_mesh_options(s.env(), cl, command, surface, options, options3); code != kExitOk) return code;
+  // The handle file first: a bad one is reported before any meshing.
+  const HandleFile file = read_handles(*cl.value("--handles"), surface ? 3 : 2);
+  if (!file.error.empty()) {
+    s.err() << "immerse " << command << ": " << file.error << '\n';
+    return kExitInvalidInput;
+  }
+  SearchRequest search;
   search.max_immersions = k + 1;
-  if (is_surface_file(path)) {
-    if (auto n = cl.integer("--resolution")) {
-      if (const std::string error = check_resolution3(static_cast<int>(*n)); !error.empty()) {
-        return usage_error(s.env(), command, error);
-      }
-    }
-    dim3::SurfaceReadResult read = s.timed("read", [&] { return dim3::read_surface(path); });
-    if (!read.report.ok()) {
-      print_defects(s, path, read.report);
-      return kExitInvalidInput;
-    }
-    dim3::ImmerseOptions3 io;
-    io.build.exact_volumes = false;
-    io.search = search;
-    const dim3::Immersed3 im = s.timed("immerse", [&] { return dim3::immerse_surface(read.surface, io); });
-    if (!im.build.report.ok()) {
-      print_defects(s, path, im.build.report);
-      return kExitInvalidInput;
-    }
-    if (im.build.inversion || im.search.immersions.size() <= k) return no_immersion(s, command, path, im.search);
-    dim3::MeshOptions3 options;
-    options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
-    if (auto b = cl.value("--background")) options.background_path = *b;
-    const dim3::MeshResult3 m = s.timed("mesh", [&] {
-      return dim3::mesh_immersion3(*im.build.complex, im.search.immersions[k], options, im.input_vertices, im.input_triangles);
+  if (surface) {
+    return mesh_input_surface(s, cl, command, search, options3, k, false, [&](const MeshedSurface& m) {
+      const DeformableInput<3> in = deform::deformable(m.mesh);
+      const dim3::Surface& input = m.surface;
+      const auto moved = [&input](const Eigen::MatrixXd& p) {
+        dim3::Surface out = input;
+        for (std::size_t v = 0; v < out.vertices.size(); ++v)
+          for (int a = 0; a < 3; ++a) out.vertices[v][static_cast<std::size_t>(a)] = p(static_cast<Eigen::Index>(v), a);
+        return out;
+      };
+      InputOps ops;
+      ops.extension = ".obj";
+      ops.format = [moved](const Eigen::MatrixXd& p) { return dim3::format_obj(moved(p)); };
+      ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim3::check_generic_surface(moved(p)).intersecting_pairs; };
+      return on_mesh<3>(s, cl, command, file, in, m.mesh.mesh.reference, ops);
     });
-    if (!m.report.ok()) {
-      print_defects(s, path, m.report);
-      return kExitInvalidInput;
-    }
-    const DeformableInput<3> in = deform::deformable(m);
-    dim3::Surface surface = read.surface;
-    InputOps ops;
-    ops.extension = ".obj";
-    const auto moved = [surface](const Eigen::MatrixXd& p) {
-      dim3::Surface out = surface;
-      for (std::size_t v = 0; v < out.vertices.size(); ++v)
-        for (int a = 0; a < 3; ++a) out.vertices[v][static_cast<std::size_t>(a)] = p(static_cast<Eigen::Index>(v), a);
+  }
+  return mesh_input_curves(s, cl, command, search, options, k, [&](const MeshedCurves& m) {
+    const DeformableInput<2> in = deform::deformable(m.mesh);
+    const dim2::CurveSet& curves = m.curves;
+    const auto moved = [&curves](const Eigen::MatrixXd& p) {
+      dim2::CurveSet out = curves;
+      Eigen::Index i = 0;
+      for (dim2::Curve& c : out.curves)
+        for (dim2::Point& q : c.vertices) q = {p(i, 0), p(i, 1)}, ++i;
       return out;
     };
-    ops.format = [moved](const Eigen::MatrixXd& p) { return dim3::format_obj(moved(p)); };
-    ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim3::check_generic_surface(moved(p)).intersecting_pairs; };
-    return on_mesh<3>(s, cl, command, in, m.mesh.reference, ops);
-  }
-  dim2::ReadResult read = s.timed("read", [&] { return dim2::read_curves(path); });
-  if (!read.report.ok()) {
-    print_defects(s, path, read.report);
-    return kExitInvalidInput;
-  }
-  const dim2::BuildResult built = s.timed("complex", [&] { return dim2::build_complex(read.curves); });
-  if (!built.report.ok()) {
-    print_defects(s, path, built.report);
-    return kExitInvalidInput;
-  }
-  SearchResult r;
-  if (!built.inversion) r = s.timed("search", [&] { return find_immersions(built.complex->complex, search); });
-  if (built.inversion || r.immersions.size() <= k) return no_immersion(s, command, path, r);
-  dim2::MeshOptions options;
-  options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
-  if (auto b = cl.value("--background")) options.background_path = *b;
-  const dim2::MeshResult m = s.timed("mesh", [&] { return dim2::mesh_immersion(*built.complex, r.immersions[k], options); });
-  if (!m.report.ok()) {
-    print_defects(s, path, m.report);
-    return kExitInvalidInput;
-  }
-  const DeformableInput<2> in = deform::deformable(m);
-  const dim2::CurveSet curves = read.curves;
-  const auto moved = [curves](const Eigen::MatrixXd& p) {
-    dim2::CurveSet out = curves;
-    Eigen::Index i = 0;
-    for (dim2::Curve& c : out.curves)
-      for (dim2::Point& q : c.vertices) q = {p(i, 0), p(i, 1)}, ++i;
-    return out;
-  };
-  InputOps ops;
-  ops.extension = ".txt";
-  ops.format = [moved](const Eigen::MatrixXd& p) { return dim2::format_curves_text(moved(p)); };
-  ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim2::check_generic(moved(p)).crossings; };
-  return on_mesh<2>(s, cl, command, in, m.mesh.reference, ops);
+    InputOps ops;
+    ops.extension = ".txt";
+    ops.format = [moved](const Eigen::MatrixXd& p) { return dim2::format_curves_text(moved(p)); };
+    ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim2::check_generic(moved(p)).crossings; };
+    return on_mesh<2>(s, cl, command, file, in, m.mesh.mesh.reference, ops);
+  });
 }
 
 CommandSpec deform_command_spec() {

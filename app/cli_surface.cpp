@@ -479,25 +479,19 @@ Json mesh3_json(const dim3::MeshResult3& m, std::size_t k, const Immersion& imme
 
 }  // namespace
 
-int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions3& options,
-                 std::size_t k, bool all) {
-  for (const char* option : {"--svg", "--conforming"})
-    if (cl.has(option)) return usage_error(s.env(), "mesh", std::string(option) + " is for 2D curves only");
-  if (auto path = cl.value("-o")) {
-    const std::string ext = extension_of(*path);
-    if (ext != ".mesh" && ext != ".vtu" && ext != ".veg" && ext != ".msh" && ext != ".node")
-      return usage_error(s.env(), "mesh",
-                         "-o " + *path + ": a tet mesh is written as .mesh, .vtu, .veg, .msh or .node (+ .ele)");
-  }
-  if (options.background_path && !dim3::is_tet_mesh_extension(*options.background_path))
-    return usage_error(s.env(), "mesh", "--background " + *options.background_path +
-                                            ": expected a .veg, .mesh, .node, .ele or .msh tet mesh");
-  s.enable_summary();
-  PreparedSurface p;
+namespace {
+
+/// What `mesh`, `deform` and `weights` share in 3D (mesh_input_surface): reads and builds the
+/// input (helper boxes for self-connecting cells), searches, meshes immersion k (every one when
+/// `all`) with `mesh`'s messages, notes, exit codes and --json failure reports; hands each mesh
+/// to `use`, stopping at the first non-zero code.
+int mesh_prepared_surface(Session& s, const CommandLine& cl, const std::string& command, const SearchRequest& request,
+                          const dim3::MeshOptions3& options, std::size_t k, bool all, PreparedSurface& p,
+                          dim3::Immersed3& im,
+                          const std::function<int(const SearchResult&, std::size_t, const dim3::MeshResult3&)>& use) {
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
   const bool boxes_allowed = !cl.has("--no-helper-boxes");
-  dim3::Immersed3 im;
   if (const int code = immerse_or_report(s, p, cl, request, im); code != kExitOk) return code;
   const SearchResult& r = im.search;
   const CellComplex<3>& complex = p.complex->complex;
@@ -510,27 +504,15 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   }
   if (r.immersions.size() <= k) {
     s.set_counts(complex_counts(complex) + ", " + immersion_counts(r));
-    return usage_error(s.env(), "mesh",
+    return usage_error(s.env(), command,
                        "--immersion " + std::to_string(k) + ": '" + p.path + "' has only " +
                            plural(r.immersions.size(), "immersion") + " (numbered from 0)" +
                            (r.complete ? "" : "; the search stopped early, raise --max-states"));
   }
   dim3::MeshOptions3 mesh_options = options;
   if (s.show_progress()) mesh_options.progress = [&s](const std::string& m) { s.err() << "immerse: mesh: " << m << '\n'; };
-  Json report = Json::object();
-  report["input"] = input_json(p);
-  report["status"] = "ok";
-  report["immersions_found"] = r.immersions.size();
-  report["helper_boxes"] = helper_boxes_json(im);
-  Json& o = (report["options"] = Json::object());
-  o["resolution"] = options.background_path ? Json() : Json(options.resolution);
-  o["background"] = options.background_path ? Json(*options.background_path) : Json();
-  o["threads"] = options.threads;
-  o["method"] = options.method == MeshMethod::Csg ? "csg" : "clip";
-  Json& meshes = (report["meshes"] = Json::array());
   const std::size_t first = all ? 0 : k;
   const std::size_t last = all ? r.immersions.size() : k + 1;
-  std::size_t total_tets = 0;
   for (std::size_t i = first; i < last; ++i) {
     const dim3::MeshResult3 m = s.timed("mesh", [&] {
       return dim3::mesh_immersion3(*p.complex, r.immersions[i], mesh_options, im.input_vertices, im.input_triangles);
@@ -550,7 +532,6 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
       print_written(s);
       return kExitInvalidInput;
     }
-    total_tets += m.stats.output_tets;
     if (m.stats.input_shift != Point3{0, 0, 0}) {
       s.err() << "immerse: note: the input touches the background mesh non-generically (an input vertex on a tet "
                  "face, an edge through a tet edge, ...): meshed the input translated by "
@@ -573,6 +554,54 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
             << " (background " << plural(m.stats.background_tets, "tet") << ", " << m.stats.cut_tets
             << " cut by the input" << (m.stats.helper_tets > 0 ? ", " + std::to_string(m.stats.helper_tets) + " helper-box tets dropped" : "")
             << ")\n";
+    if (const int code = use(r, i, m); code != kExitOk) return code;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+int mesh_input_surface(Session& s, const CommandLine& cl, const std::string& command, const SearchRequest& request,
+                       const dim3::MeshOptions3& options, std::size_t k, bool all,
+                       const std::function<int(const MeshedSurface&)>& use) {
+  PreparedSurface p;
+  dim3::Immersed3 im;
+  return mesh_prepared_surface(s, cl, command, request, options, k, all, p, im,
+                               [&](const SearchResult& r, std::size_t i, const dim3::MeshResult3& m) {
+                                 return use(MeshedSurface{p.surface, r, i, m});
+                               });
+}
+
+int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions3& options,
+                 std::size_t k, bool all) {
+  for (const char* option : {"--svg", "--conforming"})
+    if (cl.has(option)) return usage_error(s.env(), "mesh", std::string(option) + " is for 2D curves only");
+  if (auto path = cl.value("-o")) {
+    const std::string ext = extension_of(*path);
+    if (ext != ".mesh" && ext != ".vtu" && ext != ".veg" && ext != ".msh" && ext != ".node")
+      return usage_error(s.env(), "mesh",
+                         "-o " + *path + ": a tet mesh is written as .mesh, .vtu, .veg, .msh or .node (+ .ele)");
+  }
+  s.enable_summary();
+  const auto json_path = cl.value("--json");
+  PreparedSurface p;
+  dim3::Immersed3 im;
+  Json report = Json::object();
+  std::size_t total_tets = 0;
+  const auto write_mesh = [&](const SearchResult& r, std::size_t i, const dim3::MeshResult3& m) {
+    if (report.empty()) {
+      report["input"] = input_json(p);
+      report["status"] = "ok";
+      report["immersions_found"] = r.immersions.size();
+      report["helper_boxes"] = helper_boxes_json(im);
+      Json& o = (report["options"] = Json::object());
+      o["resolution"] = options.background_path ? Json() : Json(options.resolution);
+      o["background"] = options.background_path ? Json(*options.background_path) : Json();
+      o["threads"] = options.threads;
+      o["method"] = options.method == MeshMethod::Csg ? "csg" : "clip";
+      report["meshes"] = Json::array();
+    }
+    total_tets += m.stats.output_tets;
     Json entry = mesh3_json(m, i, r.immersions[i]);
     Json& outputs = (entry["outputs"] = Json::object());
     if (auto path = cl.value("-o")) {
@@ -595,9 +624,12 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
         return kExitInternalError;
       outputs["embedding"] = out;
     }
-    meshes.emplace_back(std::move(entry));
-  }
-  s.set_counts(complex_counts(complex) + ", " + immersion_counts(r) + ", " + plural(total_tets, "tet"));
+    report["meshes"].emplace_back(std::move(entry));
+    return kExitOk;
+  };
+  if (const int code = mesh_prepared_surface(s, cl, "mesh", request, options, k, all, p, im, write_mesh); code != kExitOk)
+    return code;
+  s.set_counts(complex_counts(p.complex->complex) + ", " + immersion_counts(im.search) + ", " + plural(total_tets, "tet"));
   report["timings_ms"] = s.timings_json();
   if (json_path && !s.write(*json_path, report.dump(2) + "\n", "mesh counts and timings (JSON)")) return kExitInternalError;
   print_written(s);

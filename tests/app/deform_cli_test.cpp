@@ -84,4 +84,32 @@ TEST_F(DeformCli, BadHandleFilesExit2WithAMessage) {
   EXPECT_FALSE(exists("out"));
 }
 
+TEST_F(DeformCli, MeshOptionsAreCheckedAsMeshChecksThem) {
+  // deform and weights prepare their mesh with `mesh`'s own preparation: the same options are
+  // refused with the same exit code and message, before any handle file or meshing.
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  ASSERT_EQ(run("generate sphere 6 -o ball.obj").code, 0);
+  write("h.json", kPullApart);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"fig7.txt", "--resolution 10 --background b.mesh"},
+      {"ball.obj", "--resolution 10 --background b.veg"},
+      {"ball.obj", "--resolution 151"},
+      {"ball.obj", "--background b.txt"},
+  };
+  for (const auto& [input, options] : cases) {
+    const Outcome mesh = run("mesh " + input + " " + options);
+    EXPECT_EQ(mesh.code, 64) << input << " " << options << "\n" << mesh.output;
+    for (const char* command : {"deform", "weights"}) {
+      const std::string args = std::string(command) + " " + input + " --handles h.json -o out/x.vtu " + options;
+      const Outcome r = run(args);
+      EXPECT_EQ(r.code, mesh.code) << args << "\n" << r.output;
+      // The same message as mesh's, naming the command.
+      const std::string what = mesh.output.substr(mesh.output.find(": ") + 2, mesh.output.find('\n') - mesh.output.find(": ") - 2);
+      EXPECT_NE(r.output.find(std::string("immerse ") + command + ": " + what), std::string::npos) << r.output << "\nmesh said: " << mesh.output;
+    }
+  }
+  EXPECT_NE(run("mesh fig7.txt --resolution 10 --background b.mesh").output.find("exclude each other"), std::string::npos);
+  EXPECT_FALSE(exists("out"));
+}
+
 }  // namespace
