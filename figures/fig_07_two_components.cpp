@@ -86,7 +86,8 @@ render::Scene pulled_scene(const deform::SimplexMesh<2>& mesh, const Eigen::Matr
 int main(int argc, char** argv) {
   return figures::main_guard([&] {
     const auto args = figures::parse_args(argc, argv, "fig_07_two_components");
-    figures::describe("Fig. 7", "an input of two components forming an egg-shaped hole has one immersion, meshed unglued.");
+    figures::describe("Fig. 7", "an input of two components forming an egg-shaped hole has one immersion, meshed unglued; "
+                                "the unglued mesh pulls apart (ARAP), the glued one does not.");
     const auto run = figures::run_curve("fig7");
     const dim2::Complex2& complex = *run.built.complex;
     figures::expect(run.search.complete && run.search.immersions.size() == 1, "Fig. 7 has one immersion");
