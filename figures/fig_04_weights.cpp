@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
     const dim3::Immersed3 im = dim3::immerse_surface(input, io);
     figures::expect(im.build.complex && !im.search.immersions.empty(), "the model is immersible");
     dim3::MeshOptions3 options;
-    options.resolution = args.quick ? 20 : 36;
+    options.resolution = args.quick ? 20 : 26;
     const dim3::MeshResult3 meshed =
         dim3::mesh_immersion3(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
     figures::expect(meshed.report.ok(), meshed.report.summary());
