@@ -57,7 +57,7 @@ Pulled pull(const deform::SimplexMesh<3>& mesh, const std::vector<deform::Embedd
   Eigen::MatrixXd t(static_cast<Eigen::Index>(targets.size()), 3);
   for (std::size_t k = 0; k < targets.size(); ++k) t.row(static_cast<Eigen::Index>(k)) = targets[k];
   const deform::ArapData<3> data = deform::arap_precompute<3>(mesh, handles);
-  figures::expect(data.ok(), "ARAP precomputation: " + data.error);
+  if (!data.ok()) throw std::runtime_error("ARAP precomputation: " + data.error);
   Pulled p;
   p.positions = mesh.vertices;
   // Pull in steps (warm starts), as an interactive session would.

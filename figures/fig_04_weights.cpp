@@ -52,7 +52,7 @@ Field compute(const deform::SimplexMesh<3>& mesh, const std::vector<std::vector<
               const std::string& name) {
   Field f;
   f.weights = deform::bounded_biharmonic_weights<3>(mesh, handles);
-  figures::expect(f.weights.ok(), "bounded biharmonic weights on the " + name + " mesh: " + f.weights.error);
+  if (!f.weights.ok()) throw std::runtime_error("bounded biharmonic weights on the " + name + " mesh: " + f.weights.error);
   f.distance = deform::heat_geodesic<3>(mesh, handles[0]);
   return f;
 }
@@ -199,7 +199,7 @@ int main(int argc, char** argv) {
       scene.view = render::View{20, 28, 2};
       if (const auto image = figures::picture(args, scene, file, label)) {
         figures::expect_colour_bar_labels(*image, range, file);
-        figures::expect(figures::hue_pixels(*image, render::colormap(1.0)) > 0, file + " shows A's end of the scale");
+        figures::expect(figures::hue_pixels(*image, render::colormap(1.0)) > 0, file + " shows the top of its scale (yellow)");
       }
     };
     const render::ScalarRange unit{0.0, 1.0, {0.0, 0.5, 1.0}};

@@ -34,7 +34,7 @@ Pulled2 pull(const deform::SimplexMesh<2>& mesh, const std::vector<deform::Embed
     else if (mesh.vertices(v, 0) >= 680) handles.push_back(v), dx.push_back(800);
   }
   const deform::ArapData<2> data = deform::arap_precompute<2>(mesh, handles);
-  figures::expect(data.ok(), "ARAP precomputation: " + data.error);
+  if (!data.ok()) throw std::runtime_error("ARAP precomputation: " + data.error);
   Eigen::MatrixXd targets = mesh.vertices(handles, Eigen::all);
   const Eigen::MatrixXd rest = targets;
   Pulled2 p;

@@ -47,7 +47,7 @@ Pulled pull(const deform::SimplexMesh<3>& mesh, const std::vector<deform::Embedd
     handles.push_back(v);
   }
   const deform::ArapData<3> data = deform::arap_precompute<3>(mesh, handles);
-  figures::expect(data.ok(), "ARAP precomputation: " + data.error);
+  if (!data.ok()) throw std::runtime_error("ARAP precomputation: " + data.error);
   Pulled p;
   p.positions = mesh.vertices;
   const Eigen::MatrixXd rest = mesh.vertices(handles, Eigen::all);
