@@ -8,6 +8,8 @@
 # Defaults: full mode, 640x480 pictures (small enough to keep in git), every fig_* and table_1
 # program built in build/figures (build them first: scripts/build.sh). Outputs of the programs
 # go to out/gallery/<program>/; only the PNGs the page shows are copied into figures/gallery/.
+# Given PROGRAMs, only those run: the page keeps the other programs' sections as they were
+# (sections in program-name order).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${IMM_BUILD_DIR:-$root/build}
@@ -21,17 +23,27 @@ while [ $# -gt 0 ]; do
     *) programs+=("$1"); shift ;;
   esac
 done
+keep_others=0
 if [ ${#programs[@]} -eq 0 ]; then
   for exe in "$build"/figures/fig_* "$build"/figures/table_1; do
     [ -x "$exe" ] && programs+=("$(basename "$exe")")
   done
+else
+  keep_others=1
 fi
 [ ${#programs[@]} -gt 0 ] || { echo "no figure programs in $build/figures (run scripts/build.sh)" >&2; exit 1; }
 out=$root/out/gallery
 gallery=$root/figures/gallery
 mkdir -p "$out" "$gallery"
 page=$(mktemp)
-trap 'rm -f "$page"' EXIT
+sections=$(mktemp -d)
+trap 'rm -rf "$page" "$sections"' EXIT
+# The existing page's sections, one file per program (a section starts at "## ... — `NAME`").
+if [ $keep_others = 1 ] && [ -f "$gallery/README.md" ]; then
+  awk -v dir="$sections" '
+    /^## / && match($0, /`[^`]+`$/) { name = substr($0, RSTART + 1, RLENGTH - 2); file = dir "/" name ".md" }
+    file != "" { print > file }' "$gallery/README.md"
+fi
 {
   echo "# Gallery: the paper's figures, reproduced"
   echo
@@ -59,9 +71,13 @@ for name in "${programs[@]}"; do
   grep -o '](\([^)]*\.png\))' "$out/$name/gallery.md" | sed 's/^](//; s/)$//' | while read -r png; do
     cp "$out/$name/$png" "$gallery/$name/$png"
   done
-  sed "s#](\([^)]*\.png\))#]($name/\1)#" "$out/$name/gallery.md" >>"$page"
+  sed "s#](\([^)]*\.png\))#]($name/\1)#" "$out/$name/gallery.md" >"$sections/$name.md"
+done
+for section in $(ls "$sections" | LC_ALL=C sort); do
+  cat "$sections/$section" >>"$page"
 done
 mv "$page" "$gallery/README.md"
+rm -rf "$sections"
 trap - EXIT
 echo "wrote $gallery/README.md" >&2
 exit $status

@@ -1,5 +1,7 @@
 #include "render/mesh_scenes.h"
 
+#include <cmath>
+
 #include <algorithm>
 #include <map>
 #include <unordered_map>
@@ -209,9 +211,12 @@ Scene tet_mesh_scene(const dim3::TetMesh& mesh, const TetStyle& style) {
     }
     scene.parts.push_back(std::move(part));
   }
-  if (style.color_by == TetStyle::ColorBy::Scalar && !style.vertex_scalar.empty()) {
-    const auto [lo, hi] = std::minmax_element(style.vertex_scalar.begin(), style.vertex_scalar.end());
-    scene.scalar_range = ScalarRange{*lo, *hi};
+  if (style.color_by == TetStyle::ColorBy::Scalar) {
+    // The range of the values there are (a vertex without one, NaN or infinite, is drawn grey).
+    std::optional<ScalarRange> range;
+    for (double v : style.vertex_scalar)
+      if (std::isfinite(v)) range = range ? ScalarRange{std::min(range->lo, v), std::max(range->hi, v)} : ScalarRange{v, v};
+    scene.scalar_range = range;
   }
   return scene;
 }

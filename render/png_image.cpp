@@ -99,4 +99,15 @@ long count_differing_pixels(const Image& a, const Image& b) {
   return n;
 }
 
+std::size_t count_dark(const Image& image, int x0, int y0, int x1, int y1, int max_value, int max_spread) {
+  std::size_t n = 0;
+  for (int y = std::max(0, y0); y < std::min(image.height, y1); ++y)
+    for (int x = std::max(0, x0); x < std::min(image.width, x1); ++x) {
+      const auto p = image.at(x, y);
+      const int hi = std::max({p[0], p[1], p[2]}), lo = std::min({p[0], p[1], p[2]});
+      n += hi < max_value && hi - lo <= max_spread ? 1 : 0;
+    }
+  return n;
+}
+
 }  // namespace imm::render

@@ -57,6 +57,11 @@ HueQuery query_for(const Color& color);
 std::size_t count_hue(const Image& image, const HueQuery& query);
 std::size_t count_hue(const Image& image, const HueQuery& query, int x0, int y0, int x1, int y1);
 
+/// Dark grey pixels in [x0, x1) x [y0, y1) (clipped to the picture): every channel below
+/// `max_value` and the channels within `max_spread` of each other (the colour bar's ticks and
+/// labels; saturated colours do not count).
+std::size_t count_dark(const Image& image, int x0, int y0, int x1, int y1, int max_value = 170, int max_spread = 40);
+
 /// Number of pixels that differ between two pictures of the same size (-1 if sizes differ).
 long count_differing_pixels(const Image& a, const Image& b);
 

@@ -3,11 +3,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -61,7 +63,10 @@ void write_texture(std::ostream& os, const Color& c, double transmit = 0.0) {
   os << " } " << kFinish << " }";
 }
 
+/// The texture of a scalar value: its colour level, or kScalarLevels (colors::kSurface: no
+/// value) for NaN and infinities.
 int scalar_level(double s, const ScalarRange& range) {
+  if (!std::isfinite(s)) return kScalarLevels;
   const double span = range.hi - range.lo;
   double t = span > 0 ? (s - range.lo) / span : 0.0;
   if (!(t > 0)) t = 0;
@@ -93,14 +98,21 @@ void write_part(std::ostream& os, const Part& part, const std::optional<ScalarRa
   const bool per_triangle = !scalar && part.triangle_colors.size() == part.triangles.size();
   std::vector<int> triangle_texture;
   if (scalar) {
-    const ScalarRange r = range.value_or(ScalarRange{
-        *std::min_element(part.vertex_scalar.begin(), part.vertex_scalar.end()),
-        *std::max_element(part.vertex_scalar.begin(), part.vertex_scalar.end())});
-    os << "  texture_list { " << kScalarLevels;
+    ScalarRange r{0.0, 0.0};
+    if (range) {
+      r = *range;
+    } else {
+      bool first = true;
+      for (double v : part.vertex_scalar)
+        if (std::isfinite(v)) r = first ? ScalarRange{v, v} : ScalarRange{std::min(r.lo, v), std::max(r.hi, v)}, first = false;
+    }
+    os << "  texture_list { " << kScalarLevels + 1;
     for (int k = 0; k < kScalarLevels; ++k) {
       os << ",\n    ";
       write_texture(os, colormap(static_cast<double>(k) / (kScalarLevels - 1)));
     }
+    os << ",\n    ";
+    write_texture(os, colors::kSurface);
     os << " }\n  face_indices { " << part.triangles.size();
     for (const auto& t : part.triangles)
       os << ",\n    <" << t[0] << ',' << t[1] << ',' << t[2] << ">, " << scalar_level(part.vertex_scalar[t[0]], r)
@@ -164,6 +176,121 @@ void write_polyline(std::ostream& os, const Polyline& line, double default_radiu
   os << "  pigment { color " << line.color << " } " << kFinish << "\n}\n";
 }
 
+/// Rectangles in picture coordinates (fractions of the width from the left, of the height from
+/// the top), collected into one self-lit mesh2 in camera space.
+struct FlatQuads {
+  std::vector<std::array<double, 4>> rects;  ///< x0, y0, x1, y1
+  std::vector<int> texture;
+  void add(double x0, double y0, double x1, double y1, int t) {
+    rects.push_back({x0, y0, x1, y1});
+    texture.push_back(t);
+  }
+};
+
+/// The seven segments a (top), b (top right), c (bottom right), d (bottom), e (bottom left),
+/// f (top left), g (middle) of a character, as a bit mask (bit 0 = a); 0 for a character the
+/// font does not have.
+int seven_segments(char c) {
+  switch (c) {
+    case '0': return 0b0111111;
+    case '1': return 0b0000110;
+    case '2': return 0b1011011;
+    case '3': return 0b1001111;
+    case '4': return 0b1100110;
+    case '5': return 0b1101101;
+    case '6': return 0b1111101;
+    case '7': return 0b0000111;
+    case '8': return 0b1111111;
+    case '9': return 0b1101111;
+    case '-': return 0b1000000;
+    case 'e': return 0b1111001;  // E
+    default: return 0;
+  }
+}
+
+/// Writes `text` (digits, '.', '-', 'e') with its left edge at x and its middle at y; glyphs
+/// `h` high (fraction of the picture height), strokes of the same width in pixels both ways.
+void add_label(FlatQuads& quads, const std::string& text, double x, double y, double h, int width, int height, int t) {
+  const double aspect = static_cast<double>(height) / std::max(width, 1);  // x fraction per y fraction, same pixels
+  const double w = 0.55 * h * aspect;
+  const double ty = 0.18 * h, tx = ty * aspect;
+  const double top = y - h / 2;
+  for (char c : text) {
+    if (c == '.') {
+      quads.add(x, top + h - ty, x + tx, top + h, t);
+      x += tx + 0.22 * h * aspect;
+      continue;
+    }
+    const int mask = seven_segments(c);
+    auto horizontal = [&](double v) { quads.add(x - tx / 2, top + v * h - ty / 2, x + w + tx / 2, top + v * h + ty / 2, t); };
+    auto vertical = [&](double u, double v0, double v1) {
+      quads.add(x + u * w - tx / 2, top + v0 * h - ty / 2, x + u * w + tx / 2, top + v1 * h + ty / 2, t);
+    };
+    if (mask & 1) horizontal(0);
+    if (mask & 2) vertical(1, 0, 0.5);
+    if (mask & 4) vertical(1, 0.5, 1);
+    if (mask & 8) horizontal(1);
+    if (mask & 16) vertical(0, 0.5, 1);
+    if (mask & 32) vertical(0, 0, 0.5);
+    if (mask & 64) horizontal(0.5);
+    x += w + 0.22 * h * aspect;
+  }
+}
+
+/// A colour bar in camera space at the right of the picture (render/scene.h kColourBar): one
+/// self-lit quad per colour level, and a dark tick and label per value of colour_bar_ticks, at
+/// half the depth of the nearest corner of the scene's box (in front of everything).
+void write_colour_bar(std::ostream& os, const ScalarRange& range, const Bounds& bounds, const Camera& cam, int width,
+                      int height) {
+  const double diag = std::max(bounds.diagonal(), 1e-300);
+  double near = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 c{(k & 1) ? bounds.hi[0] : bounds.lo[0], (k & 2) ? bounds.hi[1] : bounds.lo[1],
+                 (k & 4) ? bounds.hi[2] : bounds.lo[2]};
+    near = std::min(near, dot(sub(c, cam.location), cam.forward));
+  }
+  const double depth = std::max(near * 0.5, 1e-6 * diag);
+  // Picture fractions (x from the left, y from the top) to a point at `depth` on the ray.
+  auto at = [&](double fx, double fy) {
+    const double tx = cam.window_shift + (2 * fx - 1) * cam.tan_half_width;
+    const double ty = (1 - 2 * fy) * cam.tan_half_height;
+    return add(cam.location, scale(add(cam.forward, add(scale(cam.right, tx), scale(cam.up, ty))), depth));
+  };
+  const ColourBarLayout& l = kColourBar;
+  FlatQuads quads;
+  for (int k = 0; k < kScalarLevels; ++k) {
+    const double y0 = l.bottom + (l.top - l.bottom) * (k + 1) / kScalarLevels;
+    const double y1 = l.bottom + (l.top - l.bottom) * k / kScalarLevels;
+    quads.add(l.bar_left, y0, l.bar_right, y1, k);
+  }
+  const double line = 0.005;  // tick thickness, fraction of the height
+  const double aspect = static_cast<double>(height) / std::max(width, 1);
+  os << "// colour bar: " << Num{range.lo} << " (bottom) to " << Num{range.hi} << " (top); ticks:";
+  for (double v : colour_bar_ticks(range)) {
+    const double y = l.row_of(range, v);
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    os << ' ' << text;
+    quads.add(l.bar_left - line * aspect, y - line / 2, l.tick_right, y + line / 2, kScalarLevels);
+    add_label(quads, text, l.label_left, y, l.glyph_height, width, height, kScalarLevels);
+  }
+  os << "\nmesh2 {\n  vertex_vectors { " << 4 * quads.rects.size();
+  for (const auto& r : quads.rects)
+    os << ",\n    " << at(r[0], r[1]) << ", " << at(r[2], r[1]) << ", " << at(r[2], r[3]) << ", " << at(r[0], r[3]);
+  os << " }\n  texture_list { " << kScalarLevels + 1;
+  for (int k = 0; k < kScalarLevels; ++k)
+    os << ",\n    texture { pigment { color " << colormap((k + 0.5) / kScalarLevels)
+       << " } finish { ambient 0 diffuse 0 emission 1 } }";
+  os << ",\n    texture { pigment { color " << colors::kEdge << " } finish { ambient 0 diffuse 0 emission 1 } }";
+  os << " }\n  face_indices { " << 2 * quads.rects.size();
+  for (std::size_t q = 0; q < quads.rects.size(); ++q) {
+    const std::size_t a = 4 * q;
+    os << ",\n    <" << a << ',' << a + 1 << ',' << a + 2 << ">, " << quads.texture[q] << ",\n    <" << a << ','
+       << a + 2 << ',' << a + 3 << ">, " << quads.texture[q];
+  }
+  os << " }\n  no_shadow\n}\n";
+}
+
 }  // namespace
 
 std::string format_povray(const Scene& scene, int width, int height, bool soft_shadows) {
@@ -203,39 +330,7 @@ std::string format_povray(const Scene& scene, int width, int height, bool soft_s
   const double edge_radius = 0.0011 * diag;
   for (const Part& part : scene.parts) write_part(os, part, scene.scalar_range, edge_radius);
   for (const Polyline& line : scene.polylines) write_polyline(os, line, 0.004 * diag);
-  if (scene.scalar_range) {
-    // A colour bar in camera space at the right edge: self-lit quads, one per colour level,
-    // at half the depth of the nearest box corner (in front of everything).
-    double near = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 8; ++k) {
-      const Vec3 c{(k & 1) ? bounds.hi[0] : bounds.lo[0], (k & 2) ? bounds.hi[1] : bounds.lo[1],
-                   (k & 4) ? bounds.hi[2] : bounds.lo[2]};
-      near = std::min(near, dot(sub(c, cam.location), cam.forward));
-    }
-    const double depth = std::max(near * 0.5, 1e-6 * diag);
-    auto at = [&](double xs, double ys) {
-      const double tx = cam.window_shift + xs * cam.tan_half_width;
-      const double ty = ys * cam.tan_half_height;
-      return add(cam.location, scale(add(cam.forward, add(scale(cam.right, tx), scale(cam.up, ty))), depth));
-    };
-    const double x0 = 0.80, x1 = 0.88, y0 = -0.75, y1 = 0.75;
-    os << "// colour bar: " << Num{scene.scalar_range->lo} << " (bottom) to " << Num{scene.scalar_range->hi}
-       << " (top)\nmesh2 {\n  vertex_vectors { " << 2 * (kScalarLevels + 1);
-    for (int k = 0; k <= kScalarLevels; ++k) {
-      const double y = y0 + (y1 - y0) * k / kScalarLevels;
-      os << ",\n    " << at(x0, y) << ", " << at(x1, y);
-    }
-    os << " }\n  texture_list { " << kScalarLevels;
-    for (int k = 0; k < kScalarLevels; ++k)
-      os << ",\n    texture { pigment { color " << colormap((k + 0.5) / kScalarLevels)
-         << " } finish { ambient 0 diffuse 0 emission 1 } }";
-    os << " }\n  face_indices { " << 2 * kScalarLevels;
-    for (int k = 0; k < kScalarLevels; ++k) {
-      const int a = 2 * k, b = a + 1, c = a + 2, d = a + 3;
-      os << ",\n    <" << a << ',' << b << ',' << d << ">, " << k << ",\n    <" << a << ',' << d << ',' << c << ">, " << k;
-    }
-    os << " }\n  no_shadow\n}\n";
-  }
+  if (scene.scalar_range) write_colour_bar(os, *scene.scalar_range, bounds, cam, width, height);
   return os.str();
 }
 

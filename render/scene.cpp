@@ -63,6 +63,15 @@ Color colormap(double t) {
   return {a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b)};
 }
 
+std::vector<double> colour_bar_ticks(const ScalarRange& range) {
+  std::vector<double> ticks = range.ticks;
+  if (ticks.empty()) ticks = {range.lo, 0.5 * (range.lo + range.hi), range.hi};
+  std::vector<double> out;
+  for (double t : ticks)
+    if (std::isfinite(t) && t >= std::min(range.lo, range.hi) && t <= std::max(range.lo, range.hi)) out.push_back(t);
+  return out;
+}
+
 double Bounds::diagonal() const { return std::sqrt(dot(sub(hi, lo), sub(hi, lo))); }
 Vec3 Bounds::center() const { return scale(add(lo, hi), 0.5); }
 

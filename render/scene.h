@@ -43,7 +43,9 @@ std::size_t palette_size();
 /// Hue in degrees [0, 360) of the palette's k-th colour (what a picture check looks for).
 double palette_hue(std::size_t k);
 
-/// A perceptual sequential colour map (viridis-like), t in [0, 1] (clamped).
+/// A perceptual sequential colour map (viridis-like), t in [0, 1] (clamped). A scalar part's
+/// vertex without a value (NaN or infinite, e.g. a distance to an unreachable source) is drawn
+/// in colors::kSurface instead.
 Color colormap(double t);
 
 /// One drawable triangle set. Exactly one colouring applies, in this order of precedence:
@@ -81,10 +83,35 @@ struct View {
 };
 
 /// A scalar range for the colour bar and the parts' `vertex_scalar` (t = (s - lo) / (hi - lo)).
+/// The colour bar has a dark tick and a label (the value, written with up to 3 significant
+/// digits in a seven-segment font drawn by the scene itself: no font file needed) at each of
+/// `ticks`; empty: at lo, the middle and hi (0, 0.5, 1 for weights).
 struct ScalarRange {
   double lo = 0.0;
   double hi = 1.0;
+  std::vector<double> ticks;
 };
+
+/// The values a colour bar labels: `range.ticks`, or lo, the middle and hi; values outside
+/// [lo, hi] are left out.
+std::vector<double> colour_bar_ticks(const ScalarRange& range);
+
+/// Where the colour bar sits in the picture (fractions of the width from the left edge, of the
+/// height from the top): the bar [bar_left, bar_right] x [top, bottom], its ticks to
+/// tick_right, the labels from label_left to the right edge. Pictures checks look for the
+/// labels there.
+struct ColourBarLayout {
+  double bar_left = 0.82, bar_right = 0.86, tick_right = 0.875, label_left = 0.895;
+  double top = 0.125, bottom = 0.875;
+  /// Label glyph height, as a fraction of the picture height.
+  double glyph_height = 0.05;
+  /// The picture row (fraction of the height from the top) of value `s`.
+  [[nodiscard]] double row_of(const ScalarRange& range, double s) const {
+    const double t = range.hi > range.lo ? (s - range.lo) / (range.hi - range.lo) : 0.0;
+    return bottom + (top - bottom) * t;
+  }
+};
+inline constexpr ColourBarLayout kColourBar{};
 
 struct Scene {
   std::vector<Part> parts;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <regex>
 #include <sstream>
 
@@ -330,6 +331,74 @@ TEST(RenderPicture, ScalarFieldAndColourBar) {
   EXPECT_GT(count_hue(img, yellow, content, 0, kW, kH / 3), 20u);
   EXPECT_GT(count_hue(img, purple, content, 2 * kH / 3, kW, kH), 20u);
   EXPECT_EQ(count_hue(img, yellow, content, 2 * kH / 3, kW, kH), 0u);
+}
+
+/// Dark grey pixels (the colour bar's ticks and labels) in [x0, x1) x [y0, y1); the rightmost
+/// column holding one in `rightmost` (-1 if none).
+std::size_t dark_pixels(const Image& img, int x0, int y0, int x1, int y1, int* rightmost = nullptr) {
+  if (rightmost) {
+    *rightmost = -1;
+    for (int x = x0; x < std::min(img.width, x1); ++x)
+      if (count_dark(img, x, y0, x + 1, y1) > 0) *rightmost = x;
+  }
+  return count_dark(img, x0, y0, x1, y1);
+}
+
+TEST(RenderPicture, ColourBarHasLabelledTicksAtTheirValues) {
+  REQUIRE_POVRAY();
+  Scene scene;
+  scene.ground = false;
+  scene.view = View{0, 0, 1, 30, 0.06};
+  Part quad;
+  quad.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  quad.triangles = {{0, 1, 2}, {0, 2, 3}};
+  quad.vertex_scalar = {0, 1, 1, 0};
+  scene.parts.push_back(quad);
+  scene.scalar_range = ScalarRange{0, 1};
+  EXPECT_EQ(colour_bar_ticks(*scene.scalar_range), (std::vector<double>{0, 0.5, 1}));
+  EXPECT_NE(format_povray(scene, 320, 240).find("ticks: 0 0.5 1\n"), std::string::npos);
+  const int w = 320, h = 240;
+  const Image img = render_to_image(scene, scratch("ticks") / "ticks.png", w, h);
+  const ColourBarLayout& l = kColourBar;
+  const int x0 = static_cast<int>(l.label_left * w) - 1;
+  const int half = static_cast<int>(std::ceil(l.glyph_height * h / 2)) + 1;
+  auto band = [&](double value, int* rightmost = nullptr) {
+    const int row = static_cast<int>(std::lround(l.row_of(*scene.scalar_range, value) * h));
+    return dark_pixels(img, x0, row - half, w, row + half, rightmost);
+  };
+  // A label at each tick, nothing in between.
+  int right0 = -1, right_half = -1, right1 = -1;
+  EXPECT_GT(band(0.0, &right0), 10u);
+  EXPECT_GT(band(0.5, &right_half), 10u);
+  EXPECT_GT(band(1.0, &right1), 10u);
+  EXPECT_EQ(band(0.25), 0u);
+  EXPECT_EQ(band(0.75), 0u);
+  // "0.5" is three characters wide, "0" and "1" one.
+  const double glyph = 0.55 * l.glyph_height * h;
+  EXPECT_GT(right_half, right0 + glyph);
+  EXPECT_GT(right_half, right1 + glyph);
+  // The tick marks between the bar and the labels.
+  const int tick_row = static_cast<int>(std::lround(l.row_of(*scene.scalar_range, 0.5) * h));
+  EXPECT_GT(dark_pixels(img, static_cast<int>(l.bar_right * w) + 1, tick_row - 2, static_cast<int>(l.tick_right * w),
+                        tick_row + 3),
+            0u);
+  // Ticks given by the caller replace the default ones.
+  scene.scalar_range->ticks = {0.25, 2.0};  // 2 is outside the range: left out
+  EXPECT_EQ(colour_bar_ticks(*scene.scalar_range), (std::vector<double>{0.25}));
+  EXPECT_NE(format_povray(scene, 320, 240).find("ticks: 0.25\n"), std::string::npos);
+}
+
+TEST(RenderPicture, VerticesWithoutAValueAreGrey) {
+  // A scalar that is NaN or infinite (a distance to an unreachable source) gets the extra
+  // texture after the colour levels (the surface grey), and does not stretch the range.
+  Scene scene;
+  Part tri;
+  tri.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  tri.triangles = {{0, 1, 2}};
+  tri.vertex_scalar = {std::numeric_limits<double>::infinity(), std::nan(""), 0.0};
+  scene.parts.push_back(tri);
+  const std::string pov = format_povray(scene, 100, 100);
+  EXPECT_NE(pov.find("<0,1,2>, 64,64,0"), std::string::npos) << pov;
 }
 
 TEST(RenderPicture, DeterministicPixels) {

@@ -1,0 +1,141 @@
+// Plumbing shared by the figure programs of paper §8 (deformation and weights on the unglued
+// mesh beside the glued baseline): a deform::SimplexMesh<3> at some positions as a dim3::TetMesh
+// to draw, the input surface carried by an embedding, the connected parts of an input surface,
+// handle vertices picked through the embedding, and the colour-bar check of a scalar picture.
+#pragma once
+
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "deform/simplex_mesh.h"
+#include "dim3/surface.h"
+#include "dim3/surface_genericity.h"
+#include "dim3/tet_mesh.h"
+#include "figures/figure_common.h"
+#include "render/mesh_scenes.h"
+#include "render/png_image.h"
+#include "render/scene.h"
+
+namespace imm::figures {
+
+/// `mesh`'s elements at `positions` (n x 3) as a tet mesh to draw; `reference` per element
+/// (graph node, for colouring) or empty.
+inline dim3::TetMesh to_tet_mesh(const deform::SimplexMesh<3>& mesh, const Eigen::MatrixXd& positions,
+                                 const std::vector<int>& reference = {}) {
+  dim3::TetMesh out;
+  out.vertices.resize(static_cast<std::size_t>(positions.rows()));
+  for (Eigen::Index v = 0; v < positions.rows(); ++v)
+    for (int a = 0; a < 3; ++a) out.vertices[static_cast<std::size_t>(v)][static_cast<std::size_t>(a)] = positions(v, a);
+  out.tets.resize(static_cast<std::size_t>(mesh.element_count()));
+  for (Eigen::Index e = 0; e < mesh.element_count(); ++e)
+    for (int i = 0; i < 4; ++i) out.tets[static_cast<std::size_t>(e)][static_cast<std::size_t>(i)] = mesh.elements(e, i);
+  out.reference = reference;
+  return out;
+}
+
+/// The input surface with its vertices moved to `points` (one row per vertex, from
+/// deform::embedded_positions).
+inline dim3::Surface moved_surface(const dim3::Surface& surface, const Eigen::MatrixXd& points) {
+  dim3::Surface out = surface;
+  for (std::size_t v = 0; v < out.vertices.size(); ++v)
+    for (int a = 0; a < 3; ++a) out.vertices[v][static_cast<std::size_t>(a)] = points(static_cast<Eigen::Index>(v), a);
+  return out;
+}
+
+/// Connected parts of a surface (triangles sharing a vertex): per vertex its part, numbered in
+/// the order of their first vertex; `count` the number of parts.
+inline std::vector<int> surface_parts(const dim3::Surface& surface, int& count) {
+  std::vector<std::size_t> parent(surface.vertices.size());
+  std::iota(parent.begin(), parent.end(), std::size_t{0});
+  auto find = [&](std::size_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const auto& t : surface.triangles)
+    for (int k = 1; k < 3; ++k) parent[find(t[static_cast<std::size_t>(k)])] = find(t[0]);
+  std::vector<int> part(surface.vertices.size(), -1);
+  std::vector<int> root_part(surface.vertices.size(), -1);
+  count = 0;
+  for (std::size_t v = 0; v < surface.vertices.size(); ++v) {
+    int& p = root_part[find(v)];
+    if (p < 0) p = count++;
+    part[v] = p;
+  }
+  return part;
+}
+
+/// The mesh vertices that carry the input vertices `picked`: every corner of the elements the
+/// embedding puts them in (sorted, unique). On the unglued mesh these are the copies of the
+/// picked vertices' own sheet; on the glued mesh the one glued copy.
+inline std::vector<Eigen::Index> carrying_vertices(const deform::SimplexMesh<3>& mesh,
+                                                   const std::vector<deform::EmbeddedPoint>& embedding,
+                                                   const std::vector<std::size_t>& picked) {
+  std::vector<Eigen::Index> out;
+  for (std::size_t v : picked)
+    for (int i = 0; i < 4; ++i) out.push_back(mesh.elements(embedding[v].element, i));
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+/// A scalar picture's colour bar carries its labelled ticks: dark grey pixels (the seven-segment
+/// labels) right of the bar in a band around each tick's row, none halfway between two ticks.
+inline void expect_colour_bar_labels(const render::Image& image, const render::ScalarRange& range,
+                                     const std::string& file) {
+  const render::ColourBarLayout& l = render::kColourBar;
+  const int half = static_cast<int>(std::ceil(l.glyph_height * image.height / 2)) + 1;
+  auto dark_in_band = [&](double value) {
+    const int row = static_cast<int>(std::lround(l.row_of(range, value) * image.height));
+    return render::count_dark(image, static_cast<int>(l.label_left * image.width) - 1, row - half, image.width, row + half);
+  };
+  const std::vector<double> ticks = render::colour_bar_ticks(range);
+  bool labelled = ticks.size() >= 2;
+  for (std::size_t k = 0; k < ticks.size(); ++k) {
+    labelled = labelled && dark_in_band(ticks[k]) > 0;
+    if (k + 1 < ticks.size()) labelled = labelled && dark_in_band(0.5 * (ticks[k] + ticks[k + 1])) == 0;
+  }
+  expect(labelled, "the colour bar of " + file + " has a label at each tick and none between");
+}
+
+/// Self-intersecting triangle pairs of a (deformed) input, counted exactly
+/// (dim3::check_generic_surface: CGAL predicates on the doubles), and per triangle whether it is
+/// in one.
+struct Crossings {
+  std::size_t pairs = 0;
+  std::vector<bool> triangle;
+};
+inline Crossings crossings(const dim3::Surface& surface) {
+  const dim3::SurfaceGenericity g = dim3::check_generic_surface(surface, /*keep_pairs=*/true);
+  Crossings c{g.intersecting_pairs, std::vector<bool>(surface.triangle_count(), false)};
+  for (const auto& [i, j] : g.pairs) c.triangle[i] = c.triangle[j] = true;
+  return c;
+}
+
+/// Pictures of one deformed mesh: the deformed input surface (its self-intersecting triangles
+/// red; the picture must show red exactly when there are some) and the deformed tet mesh (by
+/// graph node when `reference` is given, else one colour).
+inline void deformed_pictures(const FigureArgs& args, const std::string& stem, const std::string& what,
+                              const dim3::Surface& deformed_input, const Crossings& crossing,
+                              const deform::SimplexMesh<3>& mesh, const Eigen::MatrixXd& positions,
+                              const std::vector<int>& reference, const render::View& view) {
+  render::Scene surface;
+  surface.parts.push_back(render::surface_part(deformed_input, crossing.triangle, render::colors::kSurface, true));
+  surface.view = view;
+  if (const auto image = picture(args, surface, stem + "_input.png",
+                                 what + ": the deformed input, " + std::to_string(crossing.pairs) +
+                                     " self-intersecting triangle pairs (red)")) {
+    const std::size_t red = hue_pixels(*image, render::colors::kIntersecting);
+    expect((red > 0) == (crossing.pairs > 0), stem + "_input.png shows red exactly when the deformed input intersects itself");
+  }
+  render::TetStyle style;
+  style.color_by = reference.empty() ? render::TetStyle::ColorBy::Single : render::TetStyle::ColorBy::Reference;
+  style.edges = !args.quick;
+  render::Scene tets = render::tet_mesh_scene(to_tet_mesh(mesh, positions, reference), style);
+  tets.view = view;
+  if (const auto image = picture(args, tets, stem + "_mesh.png",
+                                 what + ": the deformed tet mesh" + (reference.empty() ? "" : ", by graph node")))
+    expect(hue_pixels(*image, render::colors::kIntersecting) == 0, stem + "_mesh.png has no red (red means intersecting input triangles)");
+}
+
+}  // namespace imm::figures
