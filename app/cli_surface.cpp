@@ -615,7 +615,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     }
     if (auto path = cl.value("--embedding")) {
       const std::string out = all ? numbered(*path, i) : *path;
-      if (!s.write(out, dim3::format_embedding3(m.embedding), "the embedding of the input vertices (weight 1 each)"))
+      if (!s.write(out, dim3::format_embedding(m.embedding), "the embedding of the input vertices (weight 1 each)"))
         return kExitInternalError;
       outputs["embedding"] = out;
     }

@@ -135,7 +135,7 @@ TEST(RulePropagators, Rule2ForcesTheOnlyPartnerAndNothingElse) {
                            << "the outer cell left to glue to";
           if (!ok) {
             EXPECT_TRUE(conflict.has_value());
-            if (conflict) EXPECT_EQ(conflict->rule, 2) << conflict->message;
+            if (conflict) { EXPECT_EQ(conflict->rule, 2) << conflict->message; }
           }
           ++counts.conflicts;
         }

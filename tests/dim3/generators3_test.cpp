@@ -214,7 +214,8 @@ TEST(SurfaceGenerators, EveryGeneratorGivesAValidGenericOutwardMesh) {
     expect_closed_oriented(s);
     EXPECT_GT(signed_volume(s), 0.0);
     const SurfaceGenericity g = check_generic_surface(s);
-    EXPECT_TRUE(g.generic) << g.problem;
+    // A generator of local folds (issue 16) is valid but not generic: its fold is the point.
+    EXPECT_EQ(g.generic, !expected_surface_counts(info.name, {}).local_fold) << g.problem;
   }
   // the large Sacht variant and the extreme small sizes too
   for (const auto& [name, args] : std::vector<std::pair<std::string, std::vector<std::string>>>{

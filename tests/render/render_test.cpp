@@ -445,6 +445,8 @@ TEST(RenderFailure, SlowOrFailingRendererLeavesTheOldPictureAndNoTemporaries) {
   EXPECT_FALSE(status.ok());
   EXPECT_FALSE(status.renderer_missing);
   EXPECT_NE(status.error.find("did not finish"), std::string::npos) << status.error;
+  // The renderer was stopped, not waited for: it sleeps 20 s. A behaviour check (the timeout
+  // works), not a performance assertion; 10 s leaves a loaded machine 20x the 0.5 s timeout.
   EXPECT_LT(status.seconds, 10.0);
   options.povray = failing.string();
   status = render_png(scene, png.string(), options);

@@ -28,6 +28,8 @@ struct ExpectedSurfaceCounts {
   long immersions = -1;
   bool at_least_one = false;     ///< an immersion is known to exist (e.g. the components' solids)
   bool self_connecting = false;  ///< has a self-connecting cell (cut by helper boxes, paper §6.2)
+  /// A vertex star crosses itself: a local fold (exit 3 before any complex; --repair-folds).
+  bool local_fold = false;
   std::string error;             ///< unknown generator or bad arguments (as generate_surface)
 };
 
@@ -96,6 +98,16 @@ inline const std::map<std::string, Derivation, std::less<>>& derivations() {
       {"figure-eight-torus", [](P) { return counts(3, 2, 2, 1, -1, 1, 0); }},
       {"poke-through", [](P) { return counts(3, 2, 3, 1, -1, 1, 0); }},
       {"comb", kEmbedded},
+      // Percent 0: apexes straight above and below a zig-zag hexagon that is star-shaped from its
+      // centre: embedded. Percent >= 100: the top apex beyond ring vertices 3 and 4, where
+      // (3, 4, 6) and (5, 0, 6) cross (generators3.h). In between: not derived.
+      {"folded-bipyramid",
+       [](P p) {
+         if (p[0] == 0) return kEmbedded(p);
+         ExpectedSurfaceCounts c;
+         c.local_fold = p[0] >= 100;
+         return c;
+       }},
       {"mouth", kEmbedded},
       {"random-blobs", [](P) { return at_least_one(); }},
       {"perturbed-torus", [](P) { return at_least_one(); }},
