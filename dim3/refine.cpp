@@ -765,14 +765,26 @@ class Refiner {
       out.problem = "the intersection curves meet in a way that is not a crossing";
       return out;
     }
-    std::unordered_map<CDT::Face_handle, std::uint32_t> local;
+    // The faces in a canonical order: each starts at its smallest point id (orientation kept),
+    // the faces sorted by their ids. The order in which the CDT's container holds its faces and
+    // the corner a face starts at are not reproducible across runs with several threads (measured:
+    // the quintuple torus swapped two faces of one triangle between runs), and every later
+    // stage, TetGen above all, depends on the order of the cut triangles.
+    std::vector<std::pair<Triangle, CDT::Face_handle>> sorted;
+    sorted.reserve(cdt.number_of_faces());
     for (CDT::Face_handle f : cdt.finite_face_handles()) {
-      local.emplace(f, static_cast<std::uint32_t>(out.faces.size()));
       Triangle st{f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()};
       if (pr.flipped) std::swap(st[1], st[2]);
+      std::rotate(st.begin(), std::min_element(st.begin(), st.end()), st.end());
+      sorted.emplace_back(st, f);
+    }
+    std::sort(sorted.begin(), sorted.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::unordered_map<CDT::Face_handle, std::uint32_t> local;
+    for (const auto& [st, f] : sorted) {
+      local.emplace(f, static_cast<std::uint32_t>(out.faces.size()));
       out.faces.push_back(st);
     }
-    for (CDT::Face_handle f : cdt.finite_face_handles()) {
+    for (const auto& [st, f] : sorted) {
       const std::uint32_t lf = local[f];
       for (int i = 0; i < 3; ++i) {
         CDT::Face_handle g = f->neighbor(i);
