@@ -21,6 +21,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <numeric>
 #include <unordered_map>
 
 #include "core/parallel.h"
@@ -556,6 +557,14 @@ class Refiner {
     const EK::Point_3* p = hit ? boost::get<EK::Point_3>(&*hit) : nullptr;
     IMM_ASSERT(p != nullptr, "three crossing triangles without a common point");
     m_->points.push_back(*p);
+    // Evaluated exactly now, while one thread runs. A lazy point's approximation tightens when
+    // its exact value is first computed, and CGAL's triangulations start each point location
+    // with a walk on those approximations rounded to doubles (structural filtering): left lazy,
+    // a triple point shared by several cut triangles would present different doubles to their
+    // concurrent triangulations depending on which thread evaluated it first, and the CDTs would
+    // be built along different walks (same faces, another order; another triangulation where
+    // points are cocircular).
+    CGAL::exact(m_->points.back());
     m_->origins.push_back({PointOrigin::Kind::TriplePoint, key.t});
     return id;
   }
@@ -615,12 +624,47 @@ class Refiner {
     std::string problem;
   };
 
+  /// Puts the faces of a cut triangle in a canonical order: each face starts at its smallest
+  /// point id (orientation kept) and the faces are sorted by their ids; the face numbers in the
+  /// adjacency lists and pieces follow, and those lists are sorted too. The order the CDT's
+  /// container hands out its faces, and the corner each starts at, are not reproducible when the
+  /// triangulations run on several threads (measured: the quintuple torus swapped two faces of
+  /// one triangle, one of them rotated, between runs), and every later stage, TetGen above all,
+  /// depends on the order of the cut triangles.
+  static void canonicalize(LocalCut& lc) {
+    const std::size_t n = lc.faces.size();
+    for (Triangle& f : lc.faces) std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+    std::vector<std::uint32_t> order(n), rank(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return lc.faces[x] < lc.faces[y]; });
+    std::vector<Triangle> faces(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      rank[order[i]] = static_cast<std::uint32_t>(i);
+      faces[i] = lc.faces[order[i]];
+    }
+    lc.faces = std::move(faces);
+    for (auto& pair : lc.inner) {
+      pair = {rank[pair[0]], rank[pair[1]]};
+      if (pair[0] > pair[1]) std::swap(pair[0], pair[1]);
+    }
+    std::sort(lc.inner.begin(), lc.inner.end());
+    for (auto& edge : lc.boundary) edge[2] = rank[edge[2]];
+    std::sort(lc.boundary.begin(), lc.boundary.end());
+    for (LocalCut::Piece& piece : lc.pieces) {
+      piece.positive_face = rank[piece.positive_face];
+      piece.negative_face = rank[piece.negative_face];
+    }
+  }
+
   void triangulate_all(unsigned threads) {
     std::vector<std::uint32_t> cut;
     for (std::uint32_t t = 0; t < s_.triangle_count(); ++t)
       if (!tri_segments_[t].empty()) cut.push_back(t);
     std::vector<LocalCut> local(cut.size());
-    parallel_for(threads, cut.size(), [&](std::size_t i, unsigned) { local[i] = triangulate(cut[i]); });
+    parallel_for(threads, cut.size(), [&](std::size_t i, unsigned) {
+      local[i] = triangulate(cut[i]);
+      if (!local[i].failed) canonicalize(local[i]);
+    });
     m_->first_sub_triangle.assign(s_.triangle_count() + 1, 0);
     boundary_.reserve(s_.triangle_count());
     std::size_t next = 0;

@@ -340,6 +340,41 @@ TEST(Conforming3, DoubleLoopWithCube) {
   check_conforming(conform(r.surface, 0.1), 10);
 }
 
+TEST(Conforming3, CutTrianglesOfEachInputTriangleComeInACanonicalOrder) {
+  // TetGen meshes the cut mesh as a PLC in its order, and its output depends on that order: the
+  // cut triangles must come out the same on every run and thread count. The triangulations of
+  // the cut input triangles run on several threads, and the order the CDT hands out its faces
+  // was not reproducible there (the quintuple torus swapped two faces between runs). So every
+  // input triangle cut into several sub-triangles lists them canonically, an order that depends
+  // only on the set: each starts at its smallest geometric point, and they increase.
+  ImmerseOptions3 io;
+  io.build.exact_volumes = false;
+  io.build.threads = 4;
+  const Immersed3 im = immerse_surface(generated("quintuple-torus", {"24"}), io);
+  ASSERT_TRUE(im.build.complex) << im.build.report.summary();
+  const Complex3& c = *im.build.complex;
+  ASSERT_EQ(c.cut_triangle_source.size(), c.cut_triangles.size());
+  std::size_t checked = 0;
+  for (std::size_t x = 0; x < c.cut_triangles.size();) {
+    std::size_t end = x + 1;
+    while (end < c.cut_triangles.size() && c.cut_triangle_source[end] == c.cut_triangle_source[x]) ++end;
+    if (end - x >= 2) {
+      std::array<std::uint32_t, 3> previous{};
+      for (std::size_t y = x; y < end; ++y) {
+        const Triangle& t = c.cut_triangles[y];
+        const std::array<std::uint32_t, 3> g{c.cut_point[t[0]], c.cut_point[t[1]], c.cut_point[t[2]]};
+        EXPECT_TRUE(g[0] < g[1] && g[0] < g[2]) << "cut triangle " << y << " does not start at its smallest point";
+        if (y > x) EXPECT_LT(previous, g) << "cut triangles " << y - 1 << " and " << y << " of input triangle "
+                                          << c.cut_triangle_source[x] << " out of order";
+        previous = g;
+      }
+      ++checked;
+    }
+    x = end;
+  }
+  EXPECT_GT(checked, 1000u);
+}
+
 TEST(Conforming3, RoundedCutMeshChecksAreExact) {
   // The checks run before TetGen on the rounded cut mesh, on hand-made configurations: each
   // improper contact is found, each proper one (a shared vertex or edge only) passes.
