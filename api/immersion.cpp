@@ -285,10 +285,13 @@ Complex<3> build_complex(const Surface& surface, const BuildOptions& options) {
     imm::dim3::BuildOptions3 o;
     o.exact_volumes = options.exact_volumes;
     o.threads = options.threads;
+    o.repair_folds = options.repair_folds;
     imm::dim3::BuildResult3 built = imm::dim3::build_complex3(to_surface(surface), o);
     if (!built.report.ok()) throw_defects(surface.name, built.report);
     if (!built.folds.ok())
-      throw Error(ErrorKind::NotImmersible, imm::local_folds_message(surface.name, built.folds));
+      throw Error(ErrorKind::NotImmersible,
+                  imm::local_folds_message(surface.name, built.folds) +
+                      (built.repair ? "\nnote: " + imm::dim3::fold_repair_note(*built.repair, options.repair_folds.value_or(0.0)) : ""));
     if (built.inversion) throw_inversion(surface.name, built.inversion->message);
     if (!built.complex) throw Error(ErrorKind::Internal, "build_complex3 returned no complex");
     return wrap(std::shared_ptr<const imm::dim3::Complex3>(built.complex));
@@ -317,6 +320,7 @@ Immersions<3> find_immersions(const Surface& surface, const SearchOptions& optio
     imm::dim3::ImmerseOptions3 o;
     o.build.exact_volumes = false;  // the search reads no volume (as the program)
     o.build.threads = options.threads;
+    o.build.repair_folds = options.repair_folds;
     o.search = search_options(options);
     if (!options.helper_boxes) o.max_boxes = 0;
     auto data = std::make_shared<detail::ImmersionsData<3>>();
@@ -324,10 +328,13 @@ Immersions<3> find_immersions(const Surface& surface, const SearchOptions& optio
     data->immersed = imm::dim3::immerse_surface(to_surface(surface), o);
     const imm::dim3::Immersed3& im = data->immersed;
     Immersions<3> out;
-    out.notes = im.notes;
+    if (im.repair) out.notes.push_back(imm::dim3::fold_repair_note(*im.repair, options.repair_folds.value_or(0.0)));
+    out.notes.insert(out.notes.end(), im.notes.begin(), im.notes.end());
     out.helper_boxes = im.helper_boxes.size();
     if (!im.build.folds.ok())
-      throw Error(ErrorKind::NotImmersible, imm::local_folds_message(surface.name, im.build.folds));
+      throw Error(ErrorKind::NotImmersible,
+                  imm::local_folds_message(surface.name, im.build.folds) +
+                      (im.repair ? "\nnote: " + imm::dim3::fold_repair_note(*im.repair, options.repair_folds.value_or(0.0)) : ""));
     if (!im.build.report.ok()) throw_defects(surface.name, im.build.report, imm::dim3::helper_box_defect_note(im));
     if (im.build.inversion) throw_inversion(surface.name, im.build.inversion->message);
     if (!im.build.complex) throw Error(ErrorKind::Internal, "immerse_surface returned no complex");

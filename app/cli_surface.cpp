@@ -457,6 +457,34 @@ Json mesh3_json(const dim3::MeshResult3& m, std::size_t k, const Immersion& imme
   return j;
 }
 
+/// Writes `mesh -o` and `--embedding` of immersion i (numbered files with --all; TetGen's .node
+/// also writes the .ele beside it, region attribute = graph node) and lists them in
+/// entry["outputs"]. @return false after a failed write (already reported).
+bool write_tet_outputs(Session& s, const CommandLine& cl, bool all, std::size_t i, const dim3::TetMesh& mesh,
+                       const std::vector<dim3::EmbeddedVertex3>& embedding, const std::string& what_mesh,
+                       const std::string& what_embedding, Json& entry) {
+  Json& outputs = (entry["outputs"] = Json::object());
+  if (auto path = cl.value("-o")) {
+    const std::string out = all ? numbered(*path, i) : *path;
+    if (extension_of(out) == ".node") {
+      const dim3::TetGenTexts texts = dim3::format_tetgen(mesh);
+      const auto [node_path, ele_path] = dim3::tetgen_paths(out);
+      if (!s.write(node_path, texts.node, "the tet mesh's vertices (TetGen)") ||
+          !s.write(ele_path, texts.ele, "the tet mesh's tets (TetGen, region = graph node)"))
+        return false;
+    } else if (!s.write(out, format_tet_mesh(out, mesh), what_mesh)) {
+      return false;
+    }
+    outputs["mesh"] = out;
+  }
+  if (auto path = cl.value("--embedding")) {
+    const std::string out = all ? numbered(*path, i) : *path;
+    if (!s.write(out, dim3::format_embedding(embedding), what_embedding)) return false;
+    outputs["embedding"] = out;
+  }
+  return true;
+}
+
 Json conforming3_json(const dim3::ConformingResult3& m, std::size_t k, const Immersion& immersion) {
   Json j = Json::object();
   j["immersion"] = k;
@@ -599,26 +627,9 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
             << "; dihedral angles min " << m.stats.min_dihedral << " median " << m.stats.median_dihedral
             << " deg, radius-edge max " << m.stats.max_radius_edge << ")\n";
     Json entry = conforming3_json(m, i, r.immersions[i]);
-    Json& outputs = (entry["outputs"] = Json::object());
-    if (auto path = cl.value("-o")) {
-      const std::string out = all ? numbered(*path, i) : *path;
-      if (extension_of(out) == ".node") {
-        const dim3::TetGenTexts texts = dim3::format_tetgen(m.mesh);
-        const auto [node_path, ele_path] = dim3::tetgen_paths(out);
-        if (!s.write(node_path, texts.node, "the tet mesh's vertices (TetGen)") ||
-            !s.write(ele_path, texts.ele, "the tet mesh's tets (TetGen, region = graph node)"))
-          return kExitInternalError;
-      } else if (!s.write(out, format_tet_mesh(out, m.mesh), "the conforming tet mesh (reference = graph node)")) {
-        return kExitInternalError;
-      }
-      outputs["mesh"] = out;
-    }
-    if (auto path = cl.value("--embedding")) {
-      const std::string out = all ? numbered(*path, i) : *path;
-      if (!s.write(out, dim3::format_embedding(m.embedding), "the embedding of the input vertices (weight 1 each)"))
-        return kExitInternalError;
-      outputs["embedding"] = out;
-    }
+    if (!write_tet_outputs(s, cl, all, i, m.mesh, m.embedding, "the conforming tet mesh (reference = graph node)",
+                           "the embedding of the input vertices (weight 1 each)", entry))
+      return kExitInternalError;
     meshes.emplace_back(std::move(entry));
   }
   for (std::size_t i = first; i < last && !conforming; ++i) {
@@ -663,27 +674,9 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
             << " cut by the input" << (m.stats.helper_tets > 0 ? ", " + std::to_string(m.stats.helper_tets) + " helper-box tets dropped" : "")
             << ")\n";
     Json entry = mesh3_json(m, i, r.immersions[i]);
-    Json& outputs = (entry["outputs"] = Json::object());
-    if (auto path = cl.value("-o")) {
-      const std::string out = all ? numbered(*path, i) : *path;
-      if (extension_of(out) == ".node") {
-        // TetGen: two files, OUT.node and OUT.ele (region attribute = graph node).
-        const dim3::TetGenTexts texts = dim3::format_tetgen(m.mesh);
-        const auto [node_path, ele_path] = dim3::tetgen_paths(out);
-        if (!s.write(node_path, texts.node, "the tet mesh's vertices (TetGen)") ||
-            !s.write(ele_path, texts.ele, "the tet mesh's tets (TetGen, region = graph node)"))
-          return kExitInternalError;
-      } else if (!s.write(out, format_tet_mesh(out, m.mesh), "the tet mesh (reference = graph node)")) {
-        return kExitInternalError;
-      }
-      outputs["mesh"] = out;
-    }
-    if (auto path = cl.value("--embedding")) {
-      const std::string out = all ? numbered(*path, i) : *path;
-      if (!s.write(out, dim3::format_embedding(m.embedding), "the embedding of the input vertices"))
-        return kExitInternalError;
-      outputs["embedding"] = out;
-    }
+    if (!write_tet_outputs(s, cl, all, i, m.mesh, m.embedding, "the tet mesh (reference = graph node)",
+                           "the embedding of the input vertices", entry))
+      return kExitInternalError;
     meshes.emplace_back(std::move(entry));
   }
   s.set_counts(complex_counts(complex) + ", " + immersion_counts(r) + ", " + plural(total_tets, "tet"));

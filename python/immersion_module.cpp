@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -102,8 +103,12 @@ py::array_t<T> to_array(const std::vector<T>& values) {
 }
 
 immersion::SearchOptions search_options(std::size_t max, std::size_t max_states, double time_limit,
-                                        bool helper_boxes, unsigned threads) {
+                                        bool helper_boxes, unsigned threads,
+                                        std::optional<double> repair_folds = std::nullopt) {
+  if (repair_folds && !(*repair_folds > 0 && std::isfinite(*repair_folds)))
+    invalid("repair_folds must be a positive number");
   immersion::SearchOptions o;
+  o.repair_folds = repair_folds;
   o.max_immersions = max;
   o.max_states = max_states;
   o.time_limit_seconds = time_limit;
@@ -268,13 +273,14 @@ PYBIND11_MODULE(immersion, m) {
 
   m.def(
       "build_complex",
-      [](const immersion::Surface& s, bool exact_volumes, unsigned threads) {
+      [](const immersion::Surface& s, bool exact_volumes, unsigned threads, std::optional<double> repair_folds) {
         immersion::BuildOptions o;
         o.exact_volumes = exact_volumes;
         o.threads = threads;
+        o.repair_folds = search_options(1, 1, 0.0, true, 0, repair_folds).repair_folds;  // checked there
         return immersion::build_complex(s, o);
       },
-      arg("surface"), arg("exact_volumes") = true, arg("threads") = 0, release,
+      arg("surface"), arg("exact_volumes") = true, arg("threads") = 0, arg("repair_folds") = py::none(), release,
       "The exact cell complex of a surface (paper §4).");
   m.def(
       "build_complex", [](const immersion::Curves& c) { return immersion::build_complex(c); }, arg("curves"),
@@ -283,11 +289,13 @@ PYBIND11_MODULE(immersion, m) {
   m.def(
       "find_immersions",
       [](const immersion::Surface& s, std::size_t max, std::size_t max_states, double time_limit,
-         bool helper_boxes, unsigned threads) {
-        return immersion::find_immersions(s, search_options(max, max_states, time_limit, helper_boxes, threads));
+         bool helper_boxes, unsigned threads, std::optional<double> repair_folds) {
+        return immersion::find_immersions(
+            s, search_options(max, max_states, time_limit, helper_boxes, threads, repair_folds));
       },
       arg("surface"), arg("max") = 1, arg("max_states") = immersion::SearchOptions{}.max_states,
-      arg("time_limit") = 0.0, arg("helper_boxes") = true, arg("threads") = 0, release,
+      arg("time_limit") = 0.0, arg("helper_boxes") = true, arg("threads") = 0, arg("repair_folds") = py::none(),
+      release,
       "Searches the immersions (max=0: all of them). Raises NotImmersible with the conflict.");
   m.def(
       "find_immersions",

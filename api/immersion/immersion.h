@@ -131,6 +131,9 @@ struct BuildOptions {
   bool exact_volumes = true;
   /// 3D: threads for the per-triangle triangulations (0 = all cores); the result is the same.
   unsigned threads = 0;
+  /// 3D, `--repair-folds MAX`: move local-fold vertices by at most MAX (model units) instead of
+  /// the local-fold verdict; unset: local folds throw NotImmersible.
+  std::optional<double> repair_folds;
 };
 
 /// Builds the exact cell complex. Paper §4.1–4.3.
@@ -162,6 +165,8 @@ struct SearchOptions {
   bool helper_boxes = true;
   /// 3D: threads for building the complex (0 = all cores).
   unsigned threads = 0;
+  /// 3D: as BuildOptions::repair_folds; what was moved is in Immersions::notes.
+  std::optional<double> repair_folds;
 };
 
 /// The immersions found, with the complex they refer to.
@@ -173,7 +178,7 @@ struct Immersions {
   /// (their triangles come after the input's; cell, patch and arc ids include them).
   Complex<D> complex;
   std::size_t helper_boxes = 0;        ///< 3D
-  std::vector<std::string> notes;      ///< what was done (helper boxes), as the program prints
+  std::vector<std::string> notes;      ///< what was done (fold repair, helper boxes), as the program prints
 
   std::shared_ptr<const detail::ImmersionsData<D>> data_;  ///< what meshing needs
 };

@@ -255,6 +255,29 @@ class Arrays3D(Fixture):
 SHARED = os.environ.get("IMM_SHARED_DATA", "")
 
 
+class Folds(Fixture):
+    def test_local_fold_is_repaired_only_when_asked_like_the_program(self):
+        path = self.generate("folded-bipyramid", "100")
+        cli = run_immerse("immersions", path)
+        self.assertEqual(cli.returncode, 3)
+        surface = immersion.read_surface(path)
+        with self.assertRaises(immersion.NotImmersible) as e:
+            immersion.find_immersions(surface)
+        self.assertEqual(str(e.exception), cli_message(cli.stderr))
+        found = immersion.find_immersions(surface, repair_folds=3.0)
+        self.assertEqual(found.complex.cells, 1)
+        cli = run_immerse("immersions", path, "--repair-folds", "3")
+        self.assertEqual(cli.returncode, 0, cli.stderr)
+        note = next(l for l in cli.stderr.splitlines() if "local folds repaired" in l)
+        self.assertIn(note[len("immerse: note: "):], found.notes)
+        with self.assertRaises(immersion.NotImmersible) as e:
+            immersion.find_immersions(surface, repair_folds=0.01)
+        self.assertIn("not repaired within --repair-folds 0.01", str(e.exception))
+        with self.assertRaises(immersion.InvalidInput):
+            immersion.find_immersions(surface, repair_folds=-1.0)
+        self.assertEqual(immersion.build_complex(surface, repair_folds=3.0).cells, 1)
+
+
 class RealData(Fixture):
     """The paper's and third-party meshes from ../shared/data/real (skipped when absent)."""
 

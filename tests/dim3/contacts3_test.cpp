@@ -266,18 +266,8 @@ TEST(Contacts3, SeededRandomBoxesOnAGrid) {
 /// its own ring, to beyond ring vertices 3 and 4: triangles (3, 4, v) and (5, 0, v) of its star
 /// then cross each other beyond v (the far edge of one pierces the other).
 Surface folded_sphere(std::uint32_t& v) {
-  Surface s;
-  const double ring[6][3] = {{4, 0, 0.5}, {2, 3, -0.5}, {-2, 3, 0.5}, {-4, 0, -0.5}, {-2, -3, 0.5}, {2, -3, -0.5}};
-  for (const auto& r : ring) s.vertices.push_back({r[0], r[1], r[2]});
   v = 6;
-  s.vertices.push_back({-5.5, -3, 1});  // the top vertex, pulled across the ring
-  s.vertices.push_back({0, 0, -4});     // the bottom vertex
-  for (std::uint32_t k = 0; k < 6; ++k) {
-    s.triangles.push_back({k, (k + 1) % 6, 6});
-    s.triangles.push_back({(k + 1) % 6, k, 7});
-  }
-  for (std::uint32_t t = 0; t < s.triangles.size(); ++t) s.source_face.push_back(t);
-  return s;
+  return folded_bipyramid(100);  // the generator (dim3/generators3.h) is this construction
 }
 
 TEST(Contacts3, LocalFoldIsAVerdictNamingTheVertex) {
