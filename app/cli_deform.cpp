@@ -357,6 +357,8 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   dim3::ConformingOptions3 conforming_options;
   if (conforming && cl.has("--background"))
     return usage_error(s.env(), command, "--conforming and --background exclude each other");
+  if (cl.has("--resolution") && cl.has("--background"))  // as `mesh` refuses them
+    return usage_error(s.env(), command, "--resolution and --background exclude each other");
   if (!conforming || !is_surface_file(path)) {
     for (const char* option : {"--edge-length", "--radius-edge", "--min-dihedral"})
       if (cl.has(option)) return usage_error(s.env(), command, std::string(option) + " is for 3D --conforming only");

@@ -109,4 +109,18 @@ TEST_F(DeformCli, BadHandleFilesExit2WithAMessage) {
   EXPECT_FALSE(exists("out"));
 }
 
+TEST_F(DeformCli, ResolutionAndBackgroundExcludeEachOtherAsInMesh) {
+  ASSERT_EQ(run("generate two-spheres 6 -o ts.obj").code, 0);
+  write("h.json", R"({"handles": [{"vertices": [0], "displacement": [1, 0, 0]}]})");
+  const Outcome mesh = run("mesh ts.obj --resolution 8 --background bg.veg -o m.vtu");
+  EXPECT_EQ(mesh.code, 64) << mesh.output;
+  for (const char* command : {"deform ts.obj --handles h.json -o out", "weights ts.obj --handles h.json -o w.vtu"}) {
+    SCOPED_TRACE(command);
+    const Outcome r = run(std::string(command) + " --resolution 8 --background bg.veg");
+    EXPECT_EQ(r.code, 64) << r.output;
+    EXPECT_NE(r.output.find("--resolution and --background exclude each other"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(exists("out"));
+}
+
 }  // namespace
