@@ -34,7 +34,7 @@ struct ComplexData<2> {
 };
 template <>
 struct ComplexData<3> {
-  std::shared_ptr<const imm::dim3::Complex3> complex;
+  std::shared_ptr<const imm::dim3::Complex> complex;
   bool exact_measures = true;  ///< BuildOptions::exact_volumes
 };
 template <>
@@ -45,7 +45,7 @@ struct ImmersionsData<2> {
 template <>
 struct ImmersionsData<3> {
   std::string name;
-  imm::dim3::Immersed3 immersed;
+  imm::dim3::Immersed immersed;
 };
 }  // namespace detail
 
@@ -136,7 +136,7 @@ Complex<2> wrap(std::shared_ptr<const imm::dim2::Complex2> c) {
   return out;
 }
 
-Complex<3> wrap(std::shared_ptr<const imm::dim3::Complex3> c) {
+Complex<3> wrap(std::shared_ptr<const imm::dim3::Complex> c) {
   const bool exact = c->exact_volumes;
   Complex<3> out;
   out.data_ = std::make_shared<detail::ComplexData<3>>(detail::ComplexData<3>{std::move(c), exact});
@@ -282,19 +282,19 @@ Complex<2> build_complex(const Curves& curves, const BuildOptions&) {
 
 Complex<3> build_complex(const Surface& surface, const BuildOptions& options) {
   return guarded([&] {
-    imm::dim3::BuildOptions3 o;
+    imm::dim3::BuildOptions o;
     o.exact_volumes = options.exact_volumes;
     o.threads = options.threads;
     o.repair_folds = options.repair_folds;
-    imm::dim3::BuildResult3 built = imm::dim3::build_complex3(to_surface(surface), o);
+    imm::dim3::BuildResult built = imm::dim3::build_complex(to_surface(surface), o);
     if (!built.report.ok()) throw_defects(surface.name, built.report);
     if (!built.folds.ok())
       throw Error(ErrorKind::NotImmersible,
                   imm::local_folds_message(surface.name, built.folds) +
                       (built.repair ? "\nnote: " + imm::dim3::fold_repair_note(*built.repair, options.repair_folds.value_or(0.0)) : ""));
     if (built.inversion) throw_inversion(surface.name, built.inversion->message);
-    if (!built.complex) throw Error(ErrorKind::Internal, "build_complex3 returned no complex");
-    return wrap(std::shared_ptr<const imm::dim3::Complex3>(built.complex));
+    if (!built.complex) throw Error(ErrorKind::Internal, "build_complex returned no complex");
+    return wrap(std::shared_ptr<const imm::dim3::Complex>(built.complex));
   });
 }
 
@@ -317,7 +317,7 @@ Immersions<2> find_immersions(const Curves& curves, const SearchOptions& options
 
 Immersions<3> find_immersions(const Surface& surface, const SearchOptions& options) {
   return guarded([&] {
-    imm::dim3::ImmerseOptions3 o;
+    imm::dim3::ImmerseOptions o;
     o.build.exact_volumes = false;  // the search reads no volume (as the program)
     o.build.threads = options.threads;
     o.build.repair_folds = options.repair_folds;
@@ -326,7 +326,7 @@ Immersions<3> find_immersions(const Surface& surface, const SearchOptions& optio
     auto data = std::make_shared<detail::ImmersionsData<3>>();
     data->name = surface.name;
     data->immersed = imm::dim3::immerse_surface(to_surface(surface), o);
-    const imm::dim3::Immersed3& im = data->immersed;
+    const imm::dim3::Immersed& im = data->immersed;
     Immersions<3> out;
     if (im.repair) out.notes.push_back(imm::dim3::fold_repair_note(*im.repair, options.repair_folds.value_or(0.0)));
     out.notes.insert(out.notes.end(), im.notes.begin(), im.notes.end());
@@ -340,7 +340,7 @@ Immersions<3> find_immersions(const Surface& surface, const SearchOptions& optio
     if (!im.build.complex) throw Error(ErrorKind::Internal, "immerse_surface returned no complex");
     if (im.search.status != ImmersionStatus::Immersible)
       throw_no_immersion(surface.name, im.search, imm::dim3::helper_box_hint(im, options.helper_boxes));
-    out.complex = wrap(std::shared_ptr<const imm::dim3::Complex3>(im.build.complex));
+    out.complex = wrap(std::shared_ptr<const imm::dim3::Complex>(im.build.complex));
     for (const imm::Immersion& g : im.search.immersions) out.graphs.push_back(graph_of(g));
     out.complete = im.search.complete;
     out.data_ = std::move(data);
@@ -398,13 +398,13 @@ SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& opt
   return guarded([&] {
     const std::string name = found.data_ ? found.data_->name : std::string();
     check_immersion_index(found, options, name);
-    imm::dim3::MeshOptions3 o;
+    imm::dim3::MeshOptions o;
     if (options.resolution) o.resolution = *options.resolution;
     o.background_path = options.background;
     o.method = method_of(options.method);
     o.threads = options.threads;
-    const imm::dim3::Immersed3& im = found.data_->immersed;
-    imm::dim3::MeshResult3 m = imm::dim3::mesh_immersion3(
+    const imm::dim3::Immersed& im = found.data_->immersed;
+    imm::dim3::MeshResult m = imm::dim3::mesh_immersion(
         *im.build.complex, im.search.immersions[options.immersion], o, im.input_vertices, im.input_triangles);
     if (!m.report.ok()) {
       throw Error(ErrorKind::InvalidInput, imm::cannot_mesh_message(name, m.report, 20));

@@ -980,7 +980,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
   const bool all = cl.has("--all");
   request.max_immersions = all ? 0 : k + 1;
   if (is_surface_file(cl.positional[0])) {
-    dim3::MeshOptions3 options3;
+    dim3::MeshOptions options3;
     options3.method = options.method;
     if (options.background_path) options3.background_path = options.background_path;
     if (cl.has("--resolution")) {
@@ -993,7 +993,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
     if (all && cl.has("--immersion")) return usage_error(env, "mesh", "--all and --immersion exclude each other");
     if (!options.conforming) return mesh_surface(s, cl, request, options3, k, all);
     // --conforming: TetGen's tets; the edge length defaults to the grid's cube side.
-    dim3::ConformingOptions3 conforming;
+    dim3::ConformingOptions conforming;
     if (const std::string error = parse_conforming3(cl, conforming); !error.empty()) return usage_error(env, "mesh", error);
     return mesh_surface(s, cl, request, options3, k, all, &conforming);
   }

@@ -93,7 +93,7 @@ inline std::string check_resolution3(int resolution) {
 /// --edge-length, --radius-edge, --min-dihedral of the 3D conforming mesher (mesh, deform,
 /// weights), into `options` (edge_length 0: not given, see conforming_edge_length).
 /// @return a usage error message, or empty.
-inline std::string parse_conforming3(const CommandLine& cl, dim3::ConformingOptions3& options) {
+inline std::string parse_conforming3(const CommandLine& cl, dim3::ConformingOptions& options) {
   options.edge_length = 0.0;
   if (auto h = cl.real("--edge-length")) {
     if (!std::isfinite(*h)) return "--edge-length expects a positive number";
@@ -304,7 +304,7 @@ void print_immersion_list(Session& s, const std::string& description, const Sear
 Json defects_json(const ValidationReport& report, const std::string& facet_key);
 
 /// Exact contacts of an input and the perturbation that resolved them (DESIGN §5), as the
-/// library reports them (dim2::Contacts2, dim3::Contacts3).
+/// library reports them (dim2::Contacts2, dim3::Contacts).
 struct ContactsView {
   const ValidationReport* found = nullptr;
   const std::vector<std::pair<DefectKind, std::size_t>>* counts = nullptr;
@@ -397,7 +397,7 @@ void add_complex_json(Json& j, const CellComplex<D>& complex, const ComplexJsonH
 //
 // The commands of both dimensions share these templates. A prepared input P (Prepared in
 // cli.cpp, PreparedSurface in cli_surface.cpp) has `path`, `report`, `inversion` (optional),
-// `complex` (shared_ptr to a Complex2/Complex3 with a `complex` member and `reversed`), and
+// `complex` (shared_ptr to a Complex2/Complex with a `complex` member and `reversed`), and
 // `static constexpr const char* kFacetKey` ("segments" / "triangles"); the few functions that
 // differ are overloads found by argument-dependent lookup on P: input_json(p), inversion_json(p),
 // describe_input(p).
@@ -534,8 +534,8 @@ int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& r
 /// `immerse mesh IN [...]` on a surface: immersion k (or every one when `all`), written as
 /// .mesh/.vtu/.veg, .emb and JSON. With `conforming` set (`--conforming`), the conforming
 /// mesher (dim3/conforming_mesh3.h) instead of the background mesher.
-int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions3& options,
-                 std::size_t k, bool all, const dim3::ConformingOptions3* conforming = nullptr);
+int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions& options,
+                 std::size_t k, bool all, const dim3::ConformingOptions* conforming = nullptr);
 
 /// One line of `immerse generate --list`.
 struct GeneratorEntry {

@@ -354,7 +354,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   SearchOptions search;
   search.max_immersions = k + 1;
   const bool conforming = cl.has("--conforming");
-  dim3::ConformingOptions3 conforming_options;
+  dim3::ConformingOptions conforming_options;
   if (conforming && cl.has("--background"))
     return usage_error(s.env(), command, "--conforming and --background exclude each other");
   if (cl.has("--resolution") && cl.has("--background"))  // as `mesh` refuses them
@@ -378,16 +378,16 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
       print_defects(s, path, read.report);
       return kExitInvalidInput;
     }
-    dim3::ImmerseOptions3 io;
+    dim3::ImmerseOptions io;
     io.build.exact_volumes = false;
     io.search = search;
-    const dim3::Immersed3 im = s.timed("immerse", [&] { return dim3::immerse_surface(read.surface, io); });
+    const dim3::Immersed im = s.timed("immerse", [&] { return dim3::immerse_surface(read.surface, io); });
     if (!im.build.report.ok()) {
       print_defects(s, path, im.build.report);
       return kExitInvalidInput;
     }
     if (im.build.inversion || im.search.immersions.size() <= k) return no_immersion(s, command, path, im.search);
-    dim3::MeshOptions3 options;
+    dim3::MeshOptions options;
     options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
     if (auto b = cl.value("--background")) options.background_path = *b;
     DeformableInput<3> in;
@@ -397,8 +397,8 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
         conforming_options.edge_length = conforming_edge_length(read.surface, options.resolution);
       if (!(conforming_options.edge_length > 0))
         return usage_error(s.env(), command, "--conforming: the input's box is flat; pass --edge-length");
-      const dim3::ConformingResult3 m = s.timed("mesh", [&] {
-        return dim3::mesh_conforming3(*im.build.complex, im.search.immersions[k], conforming_options, im.input_vertices,
+      const dim3::ConformingResult m = s.timed("mesh", [&] {
+        return dim3::mesh_conforming(*im.build.complex, im.search.immersions[k], conforming_options, im.input_vertices,
                                       im.input_triangles);
       });
       if (!m.report.ok()) {
@@ -408,8 +408,8 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
       in = deform::deformable(m);
       reference = m.mesh.reference;
     } else {
-      const dim3::MeshResult3 m = s.timed("mesh", [&] {
-        return dim3::mesh_immersion3(*im.build.complex, im.search.immersions[k], options, im.input_vertices, im.input_triangles);
+      const dim3::MeshResult m = s.timed("mesh", [&] {
+        return dim3::mesh_immersion(*im.build.complex, im.search.immersions[k], options, im.input_vertices, im.input_triangles);
       });
       if (!m.report.ok()) {
         print_defects(s, path, m.report);

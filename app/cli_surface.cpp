@@ -46,7 +46,7 @@ bool is_surface_file(const std::string& path) {
 namespace {
 
 using dim3::Box3;
-using dim3::Complex3;
+using dim3::Complex;
 using dim3::Point3;
 
 /// Everything read and built from one surface file.
@@ -55,14 +55,14 @@ struct PreparedSurface {
   std::string path;
   dim3::Surface surface;
   ValidationReport report;                    ///< defects: exit 2
-  std::optional<dim3::Inversion3> inversion;  ///< set: exit 3 (check: a note)
-  std::shared_ptr<Complex3> complex;
-  std::optional<dim3::Contacts3> contacts;    ///< exact contacts (resolved unless --strict)
+  std::optional<dim3::Inversion> inversion;  ///< set: exit 3 (check: a note)
+  std::shared_ptr<Complex> complex;
+  std::optional<dim3::Contacts> contacts;    ///< exact contacts (resolved unless --strict)
   ValidationReport folds;                     ///< local folds: exit 3 (check: a note)
   bool list_contacts = false;                 ///< print every contact (check)
 };
 
-ContactsView contacts_view(const dim3::Contacts3& c) {
+ContactsView contacts_view(const dim3::Contacts& c) {
   return {&c.found, &c.counts, c.perturbation ? &*c.perturbation : nullptr};
 }
 
@@ -92,7 +92,7 @@ std::string describe_input(const PreparedSurface& p) {
 }
 
 Json inversion_json(const PreparedSurface& p) {
-  const dim3::Inversion3& inv = *p.inversion;
+  const dim3::Inversion& inv = *p.inversion;
   Json j = Json::object();
   j["region"] = inv.region.value();
   j["winding"] = inv.winding_number;
@@ -135,13 +135,13 @@ int read_input(Session& s, PreparedSurface& p) {
 /// inversion is left in p.inversion for the caller.
 int prepare_surface(Session& s, PreparedSurface& p, bool exact_volumes) {
   if (const int code = read_input(s, p); code != kExitOk) return code;
-  dim3::BuildOptions3 options;
+  dim3::BuildOptions options;
   options.exact_volumes = exact_volumes;
   options.progress = s.progress("");  // the library's messages name their stages
   options.strict = s.strict();
   options.repair_folds = s.repair_folds();
-  dim3::BuildResult3 built =
-      s.timed("complex", [&] { return dim3::build_complex3(p.surface, options); });
+  dim3::BuildResult built =
+      s.timed("complex", [&] { return dim3::build_complex(p.surface, options); });
   if (built.repair) print_repair_note(s, *built.repair);
   p.contacts = std::move(built.contacts);
   if (p.contacts) print_contacts_note(s, p.path, contacts_view(*p.contacts), p.list_contacts);
@@ -163,7 +163,7 @@ int prepare_surface(Session& s, PreparedSurface& p, bool exact_volumes) {
   } else if (p.complex) {
     s.set_counts(complex_counts(p.complex->complex));
   } else {
-    throw InvariantError("build_complex3 returned neither defects, an inversion nor a complex");
+    throw InvariantError("build_complex returned neither defects, an inversion nor a complex");
   }
   return kExitOk;
 }
@@ -171,7 +171,7 @@ int prepare_surface(Session& s, PreparedSurface& p, bool exact_volumes) {
 // ---- cells ------------------------------------------------------------------------------------
 
 Json counts_json(const PreparedSurface& p) {
-  const Complex3& c3 = *p.complex;
+  const Complex& c3 = *p.complex;
   const CellComplex<3>& complex = c3.complex;
   Json j = complex_counts_json(complex);
   j["triangles"] = p.surface.triangle_count();
@@ -189,7 +189,7 @@ Json counts_json(const PreparedSurface& p) {
 
 /// The complex with the 3D geometry: counts, volumes (exact when computed), genus, boxes, curves.
 void add_complex_report(Json& j, const PreparedSurface& p) {
-  const Complex3& c3 = *p.complex;
+  const Complex& c3 = *p.complex;
   const CellComplex<3>& complex = c3.complex;
   j["counts"] = counts_json(p);
   j["volumes_exact"] = c3.exact_volumes;
@@ -220,7 +220,7 @@ void add_complex_report(Json& j, const PreparedSurface& p) {
 }
 
 void print_cell_table(Session& s, const PreparedSurface& p) {
-  const Complex3& c3 = *p.complex;
+  const Complex& c3 = *p.complex;
   const std::string detail = plural(c3.components, "component") + ", " +
                              plural(c3.intersecting_pairs, "intersecting triangle pair") + ", " +
                              plural(c3.intersection_points, "intersection point") + ", " +
@@ -233,7 +233,7 @@ void print_cell_table(Session& s, const PreparedSurface& p) {
 // ---- immersions ------------------------------------------------------------------------------
 
 /// The helper boxes' part of a report (empty when none were needed).
-Json helper_boxes_json(const dim3::Immersed3& im) {
+Json helper_boxes_json(const dim3::Immersed& im) {
   Json boxes = Json::array();
   for (const Box3& b : im.helper_boxes) boxes.emplace_back(box_json(b));
   return boxes;
@@ -266,7 +266,7 @@ int check_surface(Session& s, const std::string& path) {
         << "\n(the input is valid but not immersible: 'immerse immersions' exits with code 3)\n";
     return kExitOk;
   }
-  const Complex3& c3 = *p.complex;
+  const Complex& c3 = *p.complex;
   const CellComplex<3>& c = c3.complex;
   s.out() << " (" << plural(c3.components, "component") << ", "
           << plural(c3.intersecting_pairs, "intersecting triangle pair") << ", "
@@ -303,7 +303,7 @@ namespace {
 /// when asked, and @return its exit code; otherwise kExitOk with p.complex set (the search's
 /// verdict is in im.search).
 int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, const SearchRequest& request,
-                      dim3::Immersed3& im) {
+                      dim3::Immersed& im) {
   const auto json_path = cl.value("--json");
   const auto fail_early = [&](int code) {
     if (json_path && !s.write(*json_path, early_json(p, s).dump(2) + "\n", "report"))
@@ -313,7 +313,7 @@ int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, con
   };
   if (const int code = read_input(s, p); code != kExitOk) return fail_early(code);
 
-  dim3::ImmerseOptions3 options;
+  dim3::ImmerseOptions options;
   options.build.exact_volumes = false;      // the search reads no volume
   options.build.progress = s.progress("");  // the library's messages name their stages
   options.search = search_options(s, request);
@@ -361,7 +361,7 @@ int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& r
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
   const bool boxes_allowed = !cl.has("--no-helper-boxes");
-  dim3::Immersed3 im;
+  dim3::Immersed im;
   if (const int code = immerse_or_report(s, p, cl, request, im); code != kExitOk) return code;
 
   const SearchResult& r = im.search;
@@ -423,7 +423,7 @@ std::string format_tet_mesh(const std::string& path, const dim3::TetMesh& mesh) 
   return dim3::format_medit_3d(mesh);
 }
 
-Json mesh3_json(const dim3::MeshResult3& m, std::size_t k, const Immersion& immersion) {
+Json mesh3_json(const dim3::MeshResult& m, std::size_t k, const Immersion& immersion) {
   Json j = Json::object();
   j["immersion"] = k;
   Json& c = (j["counts"] = Json::object());
@@ -485,7 +485,7 @@ bool write_tet_outputs(Session& s, const CommandLine& cl, bool all, std::size_t 
   return true;
 }
 
-Json conforming3_json(const dim3::ConformingResult3& m, std::size_t k, const Immersion& immersion) {
+Json conforming3_json(const dim3::ConformingResult& m, std::size_t k, const Immersion& immersion) {
   Json j = Json::object();
   j["immersion"] = k;
   Json& c = (j["counts"] = Json::object());
@@ -520,8 +520,8 @@ Json conforming3_json(const dim3::ConformingResult3& m, std::size_t k, const Imm
 
 }  // namespace
 
-int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions3& options,
-                 std::size_t k, bool all, const dim3::ConformingOptions3* conforming) {
+int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions& options,
+                 std::size_t k, bool all, const dim3::ConformingOptions* conforming) {
   if (cl.has("--svg")) return usage_error(s.env(), "mesh", "--svg is for 2D curves only");
   if (conforming) {
     for (const char* option : {"--background", "--method", "--threads"})
@@ -545,7 +545,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   p.path = cl.positional[0];
   const auto json_path = cl.value("--json");
   const bool boxes_allowed = !cl.has("--no-helper-boxes");
-  dim3::Immersed3 im;
+  dim3::Immersed im;
   if (const int code = immerse_or_report(s, p, cl, request, im); code != kExitOk) return code;
   const SearchResult& r = im.search;
   const CellComplex<3>& complex = p.complex->complex;
@@ -561,7 +561,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     return usage_error(s.env(), "mesh",
                        immersion_index_message(k, p.path, r.immersions.size(), r.complete));
   }
-  dim3::MeshOptions3 mesh_options = options;
+  dim3::MeshOptions mesh_options = options;
   if (s.show_progress()) mesh_options.progress = [&s](const std::string& m) { s.err() << "immerse: mesh: " << m << '\n'; };
   Json report = Json::object();
   report["input"] = input_json(p);
@@ -577,7 +577,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   const std::size_t first = all ? 0 : k;
   const std::size_t last = all ? r.immersions.size() : k + 1;
   std::size_t total_tets = 0;
-  dim3::ConformingOptions3 conforming_options;
+  dim3::ConformingOptions conforming_options;
   if (conforming) {
     conforming_options = *conforming;
     conforming_options.progress = mesh_options.progress;
@@ -592,8 +592,8 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     o["min_dihedral"] = conforming->min_dihedral;
   }
   for (std::size_t i = first; i < last && conforming; ++i) {
-    const dim3::ConformingResult3 m = s.timed("mesh", [&] {
-      return dim3::mesh_conforming3(*p.complex, r.immersions[i], conforming_options, im.input_vertices,
+    const dim3::ConformingResult m = s.timed("mesh", [&] {
+      return dim3::mesh_conforming(*p.complex, r.immersions[i], conforming_options, im.input_vertices,
                                     im.input_triangles);
     });
     if (!m.report.ok()) {
@@ -633,8 +633,8 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     meshes.emplace_back(std::move(entry));
   }
   for (std::size_t i = first; i < last && !conforming; ++i) {
-    const dim3::MeshResult3 m = s.timed("mesh", [&] {
-      return dim3::mesh_immersion3(*p.complex, r.immersions[i], mesh_options, im.input_vertices, im.input_triangles);
+    const dim3::MeshResult m = s.timed("mesh", [&] {
+      return dim3::mesh_immersion(*p.complex, r.immersions[i], mesh_options, im.input_vertices, im.input_triangles);
     });
     if (!m.report.ok()) {
       s.err() << "immerse: " << cannot_mesh_message(p.path, m.report, 20) << '\n';

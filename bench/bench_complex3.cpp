@@ -10,7 +10,7 @@
 //                                 22), complex without exact volumes, and complex + search; with
 //                                 exact volumes as a separate family. Skipped when ../shared is
 //                                 absent.
-// Inputs are generated outside the timed loop; each iteration is one build_complex3 call
+// Inputs are generated outside the timed loop; each iteration is one build_complex call
 // (validation included) and, where named, the search. Counters: triangles, intersecting pairs,
 // cells, patches, arcs, triple points.
 #include <benchmark/benchmark.h>
@@ -24,7 +24,7 @@
 namespace imm::bench {
 namespace {
 
-void set_counters(benchmark::State& state, const dim3::Surface& s, const dim3::Complex3& c3) {
+void set_counters(benchmark::State& state, const dim3::Surface& s, const dim3::Complex& c3) {
   state.counters["triangles"] = static_cast<double>(s.triangle_count());
   state.counters["pairs"] = static_cast<double>(c3.intersecting_pairs);
   state.counters["cells"] = static_cast<double>(c3.complex.cell_count());
@@ -35,11 +35,11 @@ void set_counters(benchmark::State& state, const dim3::Surface& s, const dim3::C
 
 void run_complex(benchmark::State& state, const dim3::Surface& s, bool search, bool exact_volumes = false,
                  benchmark::IterationCount complexity_n = 0) {
-  dim3::BuildOptions3 options;
+  dim3::BuildOptions options;
   options.exact_volumes = exact_volumes;
-  std::shared_ptr<dim3::Complex3> last;
+  std::shared_ptr<dim3::Complex> last;
   for (auto _ : state) {
-    dim3::BuildResult3 r = dim3::build_complex3(s, options);
+    dim3::BuildResult r = dim3::build_complex(s, options);
     if (!r.complex) {
       state.SkipWithError("input is not valid or not immersible");
       return;

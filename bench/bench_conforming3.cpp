@@ -1,4 +1,4 @@
-// Conforming 3D meshes (issue 18, dim3/conforming_mesh3.h): one mesh_conforming3 per iteration
+// Conforming 3D meshes (issue 18, dim3/conforming_mesh3.h): one mesh_conforming per iteration
 // (exact checks of the rounded cut mesh, TetGen -pY in a child process, labels, copies).
 //
 //  BM_Conforming3_QuintupleTorus   ../shared/data/real/3d/quintupleTorus.obj (Fig. 22), edge length
@@ -24,10 +24,10 @@
 namespace imm::bench {
 namespace {
 
-std::optional<dim3::Immersed3> prepare_conforming(const dim3::Surface& surface, std::string& error) {
-  dim3::ImmerseOptions3 options;
+std::optional<dim3::Immersed> prepare_conforming(const dim3::Surface& surface, std::string& error) {
+  dim3::ImmerseOptions options;
   options.build.exact_volumes = false;
-  dim3::Immersed3 im = dim3::immerse_surface(surface, options);
+  dim3::Immersed im = dim3::immerse_surface(surface, options);
   if (!im.build.complex || !im.build.report.ok() || im.search.immersions.empty()) {
     error = "input has no immersion";
     return std::nullopt;
@@ -35,15 +35,15 @@ std::optional<dim3::Immersed3> prepare_conforming(const dim3::Surface& surface, 
   return im;
 }
 
-void run_conforming(benchmark::State& state, const dim3::Immersed3& im) {
+void run_conforming(benchmark::State& state, const dim3::Immersed& im) {
   const dim3::Box3 box = dim3::bounding_box(im.surface);
   double longest = 0.0;
   for (int d = 0; d < 3; ++d) longest = std::max(longest, box.hi[d] - box.lo[d]);
-  dim3::ConformingOptions3 options;
+  dim3::ConformingOptions options;
   options.edge_length = longest / 16;
-  dim3::ConformingStats3 stats;
+  dim3::ConformingStats stats;
   for (auto _ : state) {
-    dim3::ConformingResult3 r = dim3::mesh_conforming3(*im.build.complex, im.search.immersions.front(), options,
+    dim3::ConformingResult r = dim3::mesh_conforming(*im.build.complex, im.search.immersions.front(), options,
                                                        im.input_vertices, im.input_triangles);
     if (!r.report.ok()) {
       state.SkipWithError(("meshing failed: " + r.report.summary()).c_str());
@@ -69,7 +69,7 @@ void BM_Conforming3_QuintupleTorus(benchmark::State& state) {
     return;
   }
   static std::string error;
-  static const std::optional<dim3::Immersed3> im = [&]() -> std::optional<dim3::Immersed3> {
+  static const std::optional<dim3::Immersed> im = [&]() -> std::optional<dim3::Immersed> {
     dim3::SurfaceReadResult read = dim3::read_surface(obj);
     if (!read.report.ok()) {
       error = read.report.summary();
@@ -89,7 +89,7 @@ void BM_Conforming3_Helix(benchmark::State& state) {
   const dim3::SurfaceGenerateResult g =
       dim3::generate_surface("helix", {std::to_string(state.range(0)), "20"});
   std::string error = g.error;
-  const std::optional<dim3::Immersed3> im = g.ok() ? prepare_conforming(g.surface, error) : std::nullopt;
+  const std::optional<dim3::Immersed> im = g.ok() ? prepare_conforming(g.surface, error) : std::nullopt;
   if (!im) {
     state.SkipWithError(error.c_str());
     return;

@@ -2,12 +2,12 @@
 //
 //  BM_Mesh3_QuintupleTorusVeg     ../shared/data/real/3d/quintupleTorus.obj (Fig. 22) meshed on
 //                                 ../shared/data/real/tet/quintupleTorus.veg: one whole
-//                                 mesh_immersion3 per iteration (reading the .veg included).
+//                                 mesh_immersion per iteration (reading the .veg included).
 //                                 Counters: background and output tets, polygons, the stage times
 //                                 and virtual_tets_per_s = background tets / seconds_virtual.
 //                                 Skipped when ../shared is absent.
 //  BM_Mesh3_ClipDoubles/threads   "the practical ceiling" of the clipping stage: the same cut
-//                                 triangles (Complex3::cut_vertices / cut_triangles, in doubles)
+//                                 triangles (Complex::cut_vertices / cut_triangles, in doubles)
 //                                 clipped to the same background tets by a plain double-precision
 //                                 Sutherland–Hodgman against the four face planes (no exactness,
 //                                 no symbolic vertices, no genericity check, no pieces). The
@@ -49,14 +49,14 @@ namespace {
 
 /// A surface, its complex and its first immersion.
 struct Mesh3Input {
-  dim3::Immersed3 immersed;
-  [[nodiscard]] const dim3::Complex3& complex() const { return *immersed.build.complex; }
+  dim3::Immersed immersed;
+  [[nodiscard]] const dim3::Complex& complex() const { return *immersed.build.complex; }
   [[nodiscard]] const Immersion& immersion() const { return immersed.search.immersions.front(); }
 };
 
 /// @return nullopt (and `error` set) when the surface is invalid or has no immersion.
 std::optional<Mesh3Input> prepare(const dim3::Surface& surface, std::string& error) {
-  dim3::ImmerseOptions3 options;
+  dim3::ImmerseOptions options;
   options.build.exact_volumes = false;  // the search and the meshing do not read them
   Mesh3Input input{dim3::immerse_surface(surface, options)};
   if (!input.immersed.build.complex || !input.immersed.build.report.ok()) {
@@ -95,11 +95,11 @@ const std::optional<Mesh3Input>& quintuple_input(std::string& error) {
   return input;
 }
 
-/// One mesh_immersion3 call per iteration; the counters of the last one.
-void run_mesh(benchmark::State& state, const Mesh3Input& input, const dim3::MeshOptions3& options) {
-  dim3::MeshStats3 stats;
+/// One mesh_immersion call per iteration; the counters of the last one.
+void run_mesh(benchmark::State& state, const Mesh3Input& input, const dim3::MeshOptions& options) {
+  dim3::MeshStats stats;
   for (auto _ : state) {
-    dim3::MeshResult3 r = dim3::mesh_immersion3(input.complex(), input.immersion(), options, input.immersed.input_vertices);
+    dim3::MeshResult r = dim3::mesh_immersion(input.complex(), input.immersion(), options, input.immersed.input_vertices);
     if (!r.report.ok()) {
       state.SkipWithError(("meshing failed: " + r.report.summary()).c_str());
       return;
@@ -131,7 +131,7 @@ void BM_Mesh3_QuintupleTorusVeg(benchmark::State& state) {
     state.SkipWithError(error.c_str());
     return;
   }
-  dim3::MeshOptions3 options;
+  dim3::MeshOptions options;
   options.background_path = shared_path(kQuintupleVeg);
   run_mesh(state, *input, options);
 }
@@ -232,7 +232,7 @@ void BM_Mesh3_ClipDoubles(benchmark::State& state) {
     return;
   }
   const dim3::TetMesh& bg = read.mesh;
-  const dim3::Complex3& c3 = input->complex();
+  const dim3::Complex& c3 = input->complex();
 
   // Candidate (tet, cut triangle) pairs, sorted by tet, outside the timed loop.
   using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
@@ -314,7 +314,7 @@ void BM_Mesh3_Method(benchmark::State& state) {
     state.SkipWithError(error.c_str());
     return;
   }
-  dim3::MeshOptions3 options;
+  dim3::MeshOptions options;
   options.method = state.range(0) == 1 ? MeshMethod::Csg : MeshMethod::Clip;
   options.resolution = static_cast<int>(state.range(1));
   options.threads = 1;  // both methods on one thread (BM_Stage_Virtual compares them on all)
@@ -335,7 +335,7 @@ void BM_Mesh3_Resolution(benchmark::State& state) {
     state.SkipWithError(error.c_str());
     return;
   }
-  dim3::MeshOptions3 options;
+  dim3::MeshOptions options;
   options.resolution = static_cast<int>(state.range(0));
   run_mesh(state, *input, options);
   state.SetComplexityN(static_cast<benchmark::IterationCount>(state.counters["background_tets"].value));
@@ -360,7 +360,7 @@ void BM_Mesh3_SurfaceSize(benchmark::State& state) {
     state.SkipWithError(error.c_str());
     return;
   }
-  dim3::MeshOptions3 options;
+  dim3::MeshOptions options;
   options.resolution = 32;
   run_mesh(state, *input, options);
   state.SetComplexityN(static_cast<benchmark::IterationCount>(g.surface.triangle_count()));

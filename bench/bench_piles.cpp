@@ -89,9 +89,9 @@ void pile2(benchmark::State& state, Variant variant) {
 void pile3(benchmark::State& state, Variant variant) {
   const int k = static_cast<int>(state.range(0));
   const auto seed = static_cast<std::uint64_t>(state.range(1));
-  dim3::BuildOptions3 options;
+  dim3::BuildOptions options;
   options.exact_volumes = false;  // the search does not read volumes
-  const dim3::BuildResult3 built = dim3::build_complex3(dim3::spheres_pile(k, seed, 8), options);
+  const dim3::BuildResult built = dim3::build_complex(dim3::spheres_pile(k, seed, 8), options);
   if (!built.complex || !built.report.ok() || built.inversion) {
     state.SkipWithError("the pile did not build");
     return;

@@ -2,7 +2,7 @@
 // on inputs whose earlier stages ran outside the timed loop (issue: "one family per stage:
 // complex, search, virtual elements, assembly, for D = 2 and 3"):
 //
-//  BM_Stage_Complex/dim        the exact cell complex (paper §4): build_complex / build_complex3.
+//  BM_Stage_Complex/dim        the exact cell complex (paper §4): build_complex / build_complex.
 //  BM_Stage_Search/dim         the first immersion (paper §5-6): find_immersions on that complex.
 //  BM_Stage_Virtual/dim/method the local regions of every background element (paper §7.1):
 //                              exact clipping (method 0, all threads) or the CSG baseline
@@ -75,10 +75,10 @@ const Input2& input2() {
 
 struct Input3 {
   dim3::Surface surface;
-  dim3::Immersed3 immersed;
+  dim3::Immersed immersed;
   dim3::TetMesh background;
   dim3::detail::LocalRegions local;
-  [[nodiscard]] const dim3::Complex3& complex() const { return *immersed.build.complex; }
+  [[nodiscard]] const dim3::Complex& complex() const { return *immersed.build.complex; }
 };
 
 const Input3& input3() {
@@ -87,7 +87,7 @@ const Input3& input3() {
     const dim3::SurfaceGenerateResult g = dim3::generate_surface("two-tori", {"16"});
     IMM_ASSERT(g.ok(), g.error);
     in.surface = g.surface;
-    dim3::ImmerseOptions3 options;
+    dim3::ImmerseOptions options;
     options.build.exact_volumes = false;  // the search and the meshing do not read them
     in.immersed = dim3::immerse_surface(in.surface, options);
     IMM_ASSERT(in.immersed.build.report.ok() && !in.immersed.search.immersions.empty(), "two-tori 16 is immersible");
@@ -115,13 +115,13 @@ void BM_Stage_Complex(benchmark::State& state) {
     state.counters["cells"] = static_cast<double>(in.complex->complex.cell_count());
   } else {
     const Input3& in = input3();
-    dim3::BuildOptions3 options;
+    dim3::BuildOptions options;
     options.exact_volumes = false;
     for (auto _ : state) {
-      dim3::BuildResult3 built = dim3::build_complex3(in.surface, options);
+      dim3::BuildResult built = dim3::build_complex(in.surface, options);
       benchmark::DoNotOptimize(built.complex.get());
     }
-    const dim3::Complex3& c = in.complex();
+    const dim3::Complex& c = in.complex();
     state.counters["triangles"] = static_cast<double>(in.surface.triangle_count());
     state.counters["crossing_pairs"] = static_cast<double>(c.intersecting_pairs);
     state.counters["exact_points"] = static_cast<double>(c.intersection_points);
@@ -206,7 +206,7 @@ void BM_Stage_Assembly(benchmark::State& state) {
     const Input3& in = input3();
     std::size_t tets = 0;
     for (auto _ : state) {
-      dim3::MeshResult3 result;
+      dim3::MeshResult result;
       dim3::detail::assemble(in.complex(), in.immersed.search.immersions.front(), in.background, in.local,
                               in.immersed.input_vertices, in.immersed.input_triangles, false, result);
       tets = result.mesh.tets.size();

@@ -1,4 +1,4 @@
-// From the meshes `immerse mesh` builds (dim2::MeshResult, dim3::MeshResult3) to the Eigen
+// From the meshes `immerse mesh` builds (dim2::MeshResult, dim3::MeshResult) to the Eigen
 // matrices of the deformation library, and the glued baseline of the same result. Header-only
 // and CGAL-free (the dim2/dim3 mesh headers are facades).
 #pragma once
@@ -60,7 +60,7 @@ inline DeformableInput<2> deformable(const dim2::MeshResult& result) {
   return in;
 }
 
-inline DeformableInput<3> deformable(const dim3::MeshResult3& result) {
+inline DeformableInput<3> deformable(const dim3::MeshResult& result) {
   DeformableInput<3> in;
   in.unglued = to_simplex_mesh(result.mesh);
   in.unglued_embedding = to_embedding(result.embedding);
@@ -71,7 +71,7 @@ inline DeformableInput<3> deformable(const dim3::MeshResult3& result) {
 
 /// A conforming 3D mesh (dim3/conforming_mesh3.h): the unglued copies, and as the glued baseline
 /// TetGen's tets with every copy glued back.
-inline DeformableInput<3> deformable(const dim3::ConformingResult3& result) {
+inline DeformableInput<3> deformable(const dim3::ConformingResult& result) {
   DeformableInput<3> in;
   in.unglued = to_simplex_mesh(result.mesh);
   in.unglued_embedding = to_embedding(result.embedding);

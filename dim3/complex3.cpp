@@ -185,10 +185,10 @@ class RayCaster {
 
 class ComplexBuilder {
  public:
-  ComplexBuilder(const Surface& s, const CutMesh& m, const BuildOptions3& o) : s_(s), m_(m), options_(o) {}
+  ComplexBuilder(const Surface& s, const CutMesh& m, const BuildOptions& o) : s_(s), m_(m), options_(o) {}
 
   /// @return false when a region has a negative winding number (result.inversion is set then).
-  void build(Complex3& out, std::optional<Inversion3>& inversion, bool& all_nonpositive) {
+  void build(Complex& out, std::optional<Inversion>& inversion, bool& all_nonpositive) {
     find_patches();
     arcs_ = chain_arcs(m_);
     glue_wedges();
@@ -433,8 +433,8 @@ class ComplexBuilder {
     }
   }
 
-  Inversion3 describe_inversion(RegionId r) const {
-    Inversion3 inv;
+  Inversion describe_inversion(RegionId r) const {
+    Inversion inv;
     inv.region = r;
     inv.winding_number = region_winding_[r];
     for (std::uint32_t t = 0; t < m_.triangles.size() && inv.triangles.size() < 8; ++t) {
@@ -465,7 +465,7 @@ class ComplexBuilder {
     return region_of_class_[class_of_node_[side_node(patch, negative)]];
   }
 
-  void emit(Complex3& out) {
+  void emit(Complex& out) {
     const std::size_t regions = region_winding_.size();
     // Volumes: sum over boundary sub-triangles of the signed cone volumes from the origin
     // (negative side = inside: +, positive side = outside: -). Exactly: sub-triangles with only
@@ -646,7 +646,7 @@ class ComplexBuilder {
 
   const Surface& s_;
   const CutMesh& m_;
-  const BuildOptions3& options_;
+  const BuildOptions& options_;
   std::vector<std::uint32_t> patch_of_;
   std::uint32_t patch_count_ = 0;
   std::vector<ArcChain> arcs_;
@@ -749,10 +749,10 @@ bool only_coincident_vertices(const ValidationReport& report) {
 
 namespace {
 
-BuildResult3 build_once(const Surface& surface, const BuildOptions3& options) {
+BuildResult build_once(const Surface& surface, const BuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  BuildResult3 result;
-  const auto finish = [&]() -> BuildResult3 {
+  BuildResult result;
+  const auto finish = [&]() -> BuildResult {
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return std::move(result);
   };
@@ -764,7 +764,7 @@ BuildResult3 build_once(const Surface& surface, const BuildOptions3& options) {
   RefineResult refined;
   if (result.report.ok()) refined = refine_surface(surface, options.progress, options.threads);
   if (!result.report.ok() || !refined.report.ok()) {
-    Contacts3 contacts;
+    Contacts contacts;
     contacts.found = std::move(result.report);
     add_counts(contacts.counts, contacts.found);
     result.report = {};
@@ -835,8 +835,8 @@ BuildResult3 build_once(const Surface& surface, const BuildOptions3& options) {
       refined = refine_surface(input, options.progress, options.threads);
       IMM_ASSERT(refined.report.ok(), "flipping a generic surface made it non-generic");
     }
-    auto c3 = std::make_shared<Complex3>();
-    std::optional<Inversion3> inversion;
+    auto c3 = std::make_shared<Complex>();
+    std::optional<Inversion> inversion;
     bool all_nonpositive = false;
     ComplexBuilder(input, *refined.mesh, options).build(*c3, inversion, all_nonpositive);
     if (inversion && all_nonpositive && !reversed) continue;  // inside-out input: flip it once
@@ -856,9 +856,9 @@ BuildResult3 build_once(const Surface& surface, const BuildOptions3& options) {
 
 }  // namespace
 
-BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options) {
+BuildResult build_complex(const Surface& surface, const BuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  BuildResult3 result = build_once(surface, options);
+  BuildResult result = build_once(surface, options);
   if (result.folds.ok() || !options.repair_folds) return result;
   if (options.progress) options.progress("local folds: repairing (--repair-folds)");
   FoldRepair repair = repair_folds(surface, *options.repair_folds, options.threads);
@@ -866,13 +866,13 @@ BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options
     result.repair = std::move(repair);
     return result;
   }
-  BuildResult3 repaired = build_once(repair.surface, options);
+  BuildResult repaired = build_once(repair.surface, options);
   repaired.repair = std::move(repair);
   repaired.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return repaired;
 }
 
-std::string format_cut_mesh_obj(const Complex3& c3) {
+std::string format_cut_mesh_obj(const Complex& c3) {
   std::string out = "# immerse: the cut mesh (per-sheet vertices), one group per patch\n";
   char buf[128];
   for (const Point3& p : c3.cut_vertices) {

@@ -53,7 +53,7 @@ inline Box3 bounding_box(const Surface& s) {
 }
 
 /// The 3D cell complex with its geometry.
-struct Complex3 {
+struct Complex {
   CellComplex<3> complex;
   /// The input as the complex sees it: every triangle flipped (v0, v2, v1) when the input was
   /// inside-out (all winding numbers <= 0). Vertex and triangle ids are the file's.
@@ -74,7 +74,7 @@ struct Complex3 {
   IdMap<RegionId, Box3> region_box;                  ///< bounding box of each region's boundary
   IdMap<PatchId, std::size_t> patch_triangle_count;
   IdMap<RegionId, int> region_genus;                 ///< total genus of the region's boundary
-  /// True when complex.measure() holds exact volumes (BuildOptions3::exact_volumes); false when
+  /// True when complex.measure() holds exact volumes (BuildOptions::exact_volumes); false when
   /// it holds the volumes computed in doubles.
   bool exact_volumes = true;
 
@@ -91,20 +91,20 @@ struct Complex3 {
 
 /// A region with negative winding number (or mixed signs): the input folds or inverts space
 /// (paper §3, Fig. 8): valid input, not immersible, exit 3.
-struct Inversion3 {
+struct Inversion {
   RegionId region;
   int winding_number = 0;
   std::vector<long> triangles;  ///< some input triangles bounding the region
   std::string message;
 };
 
-struct BuildOptions3 {
+struct BuildOptions {
   LogCallback progress;  ///< coarse progress messages (stage names, counts)
   /// Exact rational volumes (GMP) for every region. They are inherently large numbers (their
   /// denominators multiply those of every intersection point on the region's boundary) and cost
   /// more than the rest of the complex on inputs with thousands of intersection points; the
   /// search does not read them. When false, every measure is the volume computed in doubles
-  /// (converted exactly to a Rational) and Complex3::exact_volumes is false.
+  /// (converted exactly to a Rational) and Complex::exact_volumes is false.
   bool exact_volumes = true;
   /// Threads for the per-triangle triangulations (0 = all cores). The result is the same for
   /// every value.
@@ -121,7 +121,7 @@ struct BuildOptions3 {
 
 /// Exact contacts of the input and how they were resolved (DESIGN §5): the input was replaced by
 /// a perturbed copy (core/perturbation.h) on which every exact decision is generic.
-struct Contacts3 {
+struct Contacts {
   /// The contacts as the exact steps found them on the input (coincident vertices from the
   /// validator, then the intersection's contacts), listed up to a cap per kind, with ids.
   ValidationReport found;
@@ -132,16 +132,16 @@ struct Contacts3 {
   Surface resolved;
 };
 
-struct BuildResult3 {
+struct BuildResult {
   ValidationReport report;               ///< non-empty: invalid input (exit 2)
-  std::optional<Inversion3> inversion;   ///< set: valid input, not immersible (exit 3)
+  std::optional<Inversion> inversion;   ///< set: valid input, not immersible (exit 3)
   /// Non-empty: local folds (DefectKind::LocalFold), a not-immersible verdict (exit 3): two
   /// triangles of one vertex star cross beyond the vertex, which no perturbation removes.
   ValidationReport folds;
-  /// Set when the input had exact contacts (resolved or not; see Contacts3::perturbation).
-  std::optional<Contacts3> contacts;
-  std::shared_ptr<Complex3> complex;     ///< set when the complex was built
-  /// Set when BuildOptions3::repair_folds was given and the input had local folds: the vertices
+  /// Set when the input had exact contacts (resolved or not; see Contacts::perturbation).
+  std::optional<Contacts> contacts;
+  std::shared_ptr<Complex> complex;     ///< set when the complex was built
+  /// Set when BuildOptions::repair_folds was given and the input had local folds: the vertices
   /// moved (ok), or why the folds could not be repaired (!ok; `folds` then holds the verdict).
   /// When ok, everything above describes the repaired surface (FoldRepair::surface).
   std::optional<FoldRepair> repair;
@@ -153,10 +153,10 @@ struct BuildResult3 {
 /// vertices, an intersection curve through a vertex or an edge) are resolved by an explicit,
 /// reproducible perturbation of at most 2^-30 of the diagonal (perturbation_schedule(), the first
 /// attempt on which every exact decision is generic), unless `options.strict`; a generic input is
-/// never perturbed. The complex then describes the perturbed surface (Complex3::surface).
-BuildResult3 build_complex3(const Surface& surface, const BuildOptions3& options = {});
+/// never perturbed. The complex then describes the perturbed surface (Complex::surface).
+BuildResult build_complex(const Surface& surface, const BuildOptions& options = {});
 
 /// The cut mesh as OBJ, one group `patch_K` per patch (per-sheet vertices), for viewers.
-std::string format_cut_mesh_obj(const Complex3& c3);
+std::string format_cut_mesh_obj(const Complex& c3);
 
 }  // namespace imm::dim3

@@ -76,7 +76,7 @@ struct Plc {
   std::vector<std::array<std::int32_t, 3>> facets;  ///< per cut triangle
 };
 
-Plc make_plc(const Complex3& complex) {
+Plc make_plc(const Complex& complex) {
   Plc plc;
   std::vector<std::int32_t> index(complex.points.size(), -1);
   plc.facets.reserve(complex.cut_triangles.size());
@@ -403,11 +403,11 @@ ValidationReport check_rounded_cut_mesh(const std::vector<Point3>& points,
   return report;
 }
 
-ConformingResult3 mesh_conforming3(const Complex3& complex, const Immersion& immersion,
-                                   const ConformingOptions3& options, std::size_t input_vertices,
+ConformingResult mesh_conforming(const Complex& complex, const Immersion& immersion,
+                                   const ConformingOptions& options, std::size_t input_vertices,
                                    std::size_t input_triangles) {
-  ConformingResult3 result;
-  ConformingStats3& stats = result.stats;
+  ConformingResult result;
+  ConformingStats& stats = result.stats;
   const auto log = [&](const std::string& message) {
     if (options.progress) options.progress(message);
   };

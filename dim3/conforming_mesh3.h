@@ -35,7 +35,7 @@
 
 namespace imm::dim3 {
 
-struct ConformingOptions3 {
+struct ConformingOptions {
   /// Target (largest) edge length inside the cells: TetGen's volume bound is the volume of the
   /// regular tet with this edge. Must be > 0. The cut triangles are kept as they are.
   double edge_length = 1.0;
@@ -48,7 +48,7 @@ struct ConformingOptions3 {
   LogCallback progress;
 };
 
-struct ConformingStats3 {
+struct ConformingStats {
   std::size_t plc_points = 0;     ///< geometric cut-mesh points given to TetGen
   std::size_t plc_triangles = 0;  ///< cut triangles given to TetGen (helper boxes included)
   std::size_t tetgen_points = 0;
@@ -71,26 +71,26 @@ struct ConformingStats3 {
   /// the preserved surface, so a skinny cut triangle (intersection curves cut input triangles
   /// into needles and caps) forces flat tets on it.
   std::size_t slivers_at_surface = 0;
-  double embedding_error = 0.0;   ///< as MeshStats3::embedding_error (0: vertices are exact copies)
+  double embedding_error = 0.0;   ///< as MeshStats::embedding_error (0: vertices are exact copies)
   double seconds_checks = 0.0;    ///< the exact checks of the rounded cut mesh
   double seconds_tetgen = 0.0;
   double seconds_assembly = 0.0;  ///< labels, copies, union-find, embedding, quality
 };
 
-struct ConformingResult3 {
+struct ConformingResult {
   /// Non-empty: the rounded cut mesh is not a valid complex, TetGen failed, or its output breaks
   /// an invariant checked here (stage "conforming-mesh"; exit 2). The mesh is then empty.
   ValidationReport report;
   TetMesh mesh;                             ///< reference = graph node
   std::vector<EmbeddedVertex3> embedding;   ///< per user vertex: a tet with that vertex as corner, weight 1
-  ConformingStats3 stats;
+  ConformingStats stats;
   /// TetGen's tets (positively oriented, reference = the region id of each tet's label): what
   /// the glued baseline of `immerse deform --glued` deforms, every copy glued back.
   TetMesh tetrahedralization;
   std::vector<int> source_tet;  ///< per output tet: its tet of `tetrahedralization`
 };
 
-/// The exact checks mesh_conforming3 runs on the rounded cut mesh before TetGen: no two points
+/// The exact checks mesh_conforming runs on the rounded cut mesh before TetGen: no two points
 /// equal, no flat triangle, two triangles meet only in their shared vertices or their shared
 /// edge (exact predicates on the doubles; CGAL Epick). `source_triangle[x]` names the input
 /// triangle of triangle x in messages. @return every defect (empty: TetGen may take it).
@@ -100,10 +100,10 @@ ValidationReport check_rounded_cut_mesh(const std::vector<Point3>& points,
 
 /// Meshes one immersion of the complex conformingly. `input_vertices` / `input_triangles` count
 /// the user's leading vertices and triangles (helper boxes come after them): the solids of graph
-/// components owning only helper patches are dropped as in mesh_immersion3.
+/// components owning only helper patches are dropped as in mesh_immersion.
 /// @pre `immersion` satisfies Rules 1–7 for `complex.complex`; options.edge_length > 0.
-ConformingResult3 mesh_conforming3(const Complex3& complex, const Immersion& immersion,
-                                   const ConformingOptions3& options,
+ConformingResult mesh_conforming(const Complex& complex, const Immersion& immersion,
+                                   const ConformingOptions& options,
                                    std::size_t input_vertices = static_cast<std::size_t>(-1),
                                    std::size_t input_triangles = static_cast<std::size_t>(-1));
 

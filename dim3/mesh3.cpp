@@ -45,7 +45,7 @@ Box3 used_bounding_box(const Surface& s) {
 
 namespace detail {
 
-std::vector<char> helper_nodes(const Complex3& complex, const Immersion& immersion, std::size_t input_triangles) {
+std::vector<char> helper_nodes(const Complex& complex, const Immersion& immersion, std::size_t input_triangles) {
   const NodeLayout& layout = immersion.layout;
   std::vector<char> helper_node(layout.node_count(), 0);
   if (input_triangles >= complex.surface.triangle_count()) return helper_node;
@@ -61,9 +61,9 @@ std::vector<char> helper_nodes(const Complex3& complex, const Immersion& immersi
   return helper_node;
 }
 
-void assemble(const Complex3& complex, const Immersion& immersion, const TetMesh& background,
+void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
               const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
-              bool record_contents, MeshResult3& result) {
+              bool record_contents, MeshResult& result) {
   const CellComplex<3>& cc = complex.complex;
   const NodeLayout& layout = immersion.layout;
   // 3. Atoms, fusions and adjacencies for the driver.
@@ -152,7 +152,7 @@ void assemble(const Complex3& complex, const Immersion& immersion, const TetMesh
       const std::uint32_t copy = copy_index[unglued.atom_copy[atom_of(piece.local_region, owner)]];
       if (copy != kNone) result.contents[copy].owned_cut_triangles.push_back(piece.cut_triangle);
     }
-    for (CopyContent3& content : result.contents) {
+    for (CopyContent& content : result.contents) {
       auto& s = content.owned_cut_triangles;
       std::sort(s.begin(), s.end());
       s.erase(std::unique(s.begin(), s.end()), s.end());
@@ -162,9 +162,9 @@ void assemble(const Complex3& complex, const Immersion& immersion, const TetMesh
 
 }  // namespace detail
 
-MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion, const MeshOptions3& options,
+MeshResult mesh_immersion(const Complex& complex, const Immersion& immersion, const MeshOptions& options,
                             std::size_t input_vertices, std::size_t input_triangles) {
-  MeshResult3 result;
+  MeshResult result;
   const auto log = [&](const std::string& message) {
     if (options.progress) options.progress(message);
   };

@@ -19,12 +19,12 @@
 
 namespace imm::dim3 {
 
-struct MeshOptions3 {
+struct MeshOptions {
   /// Cubes of the generated background grid along the longest side of the input's box.
   int resolution = 16;
   /// Use this background mesh (.veg, .mesh, .node/.ele) instead of generating one.
   std::optional<std::string> background_path;
-  /// Fill MeshResult3::contents (what every output tet holds; for tests and diagnostics).
+  /// Fill MeshResult::contents (what every output tet holds; for tests and diagnostics).
   bool record_contents = false;
   /// Threads for the virtual tets, clipping or CSG (0 = all cores). The output is identical for
   /// every value.
@@ -42,7 +42,7 @@ struct MeshOptions3 {
 /// of its background tet that reproduce its position. DESIGN §3 ".emb".
 using EmbeddedVertex3 = imm::EmbeddedVertex<3>;
 
-struct MeshStats3 {
+struct MeshStats {
   std::size_t background_tets = 0;
   std::size_t candidate_pairs = 0;  ///< (tet, cut triangle) pairs with overlapping boxes
   std::size_t polygons = 0;         ///< clipped polygons
@@ -84,7 +84,7 @@ struct MeshStats3 {
 /// graph nodes (several when copies are fused across a graph edge inside the tet), and the cut
 /// triangles whose pieces in the tet it embeds as boundary (it holds the owner node of the
 /// piece's patch on its inner side).
-struct CopyContent3 {
+struct CopyContent {
   struct Atom {
     NodeId node;
     RegionId region;
@@ -94,14 +94,14 @@ struct CopyContent3 {
   std::vector<std::uint32_t> owned_cut_triangles;  ///< sorted
 };
 
-struct MeshResult3 {
+struct MeshResult {
   ValidationReport report;  ///< unreadable background, not covering, non-generic contact (exit 2)
   TetMesh mesh;
   std::vector<EmbeddedVertex3> embedding;  ///< per input vertex, original input order
-  MeshStats3 stats;
+  MeshStats stats;
   TetMesh background;                     ///< the background mesh used
   std::vector<int> background_tet;         ///< per output tet: the background tet it copies
-  std::vector<CopyContent3> contents;      ///< per output tet, when record_contents is set
+  std::vector<CopyContent> contents;      ///< per output tet, when record_contents is set
 };
 
 /// Meshes one immersion of the complex.
@@ -113,12 +113,12 @@ struct MeshResult3 {
 /// the graph edges there.
 /// @pre `immersion` satisfies Rules 1–7 for `complex.complex`; options.resolution >= 1.
 /// Paper: §7, §7.1.
-MeshResult3 mesh_immersion3(const Complex3& complex, const Immersion& immersion, const MeshOptions3& options,
+MeshResult mesh_immersion(const Complex& complex, const Immersion& immersion, const MeshOptions& options,
                             std::size_t input_vertices = static_cast<std::size_t>(-1),
                             std::size_t input_triangles = static_cast<std::size_t>(-1));
 
 /// .emb text: number of input vertices, then `tet w0 w1 w2 w3` per vertex (max_digits10); an
-/// unused input vertex (MeshStats3::unused_vertices) is `-1 0 0 0 0`.
+/// unused input vertex (MeshStats::unused_vertices) is `-1 0 0 0 0`.
 using imm::format_embedding;
 
 }  // namespace imm::dim3

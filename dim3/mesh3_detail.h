@@ -81,7 +81,7 @@ inline std::array<double, 4> tet_barycentric(const TetMesh& mesh, std::uint32_t 
 /// adds a Touching defect (stage "mesh") naming the tet, the cut triangle and the point; a
 /// background that does not cover the input adds NotCovered defects. Either way the result is
 /// then incomplete and must not be used.
-LocalRegions compute_local_regions(const Complex3& complex, const TetMesh& background, const Point3& shift,
+LocalRegions compute_local_regions(const Complex& complex, const TetMesh& background, const Point3& shift,
                                    bool record_embedded, unsigned threads, bool interval_filter,
                                    ValidationReport& report, bool& non_generic);
 
@@ -93,7 +93,7 @@ LocalRegions compute_local_regions(const Complex3& complex, const TetMesh& backg
 /// checking and timing the clipping path, not for production; `progress` (may be empty) hears
 /// every few seconds how far it got. Non-generic contacts set `non_generic` and add a Touching
 /// defect, as there; the result is then incomplete.
-LocalRegions compute_local_regions_csg(const Complex3& complex, const TetMesh& background, bool record_embedded,
+LocalRegions compute_local_regions_csg(const Complex& complex, const TetMesh& background, bool record_embedded,
                                        unsigned threads, const LogCallback& progress, ValidationReport& report,
                                        bool& non_generic);
 
@@ -101,7 +101,7 @@ LocalRegions compute_local_regions_csg(const Complex3& complex, const TetMesh& b
 /// helper triangles (ids >= input_triangles): the solid of a helper box, dropped from every
 /// output (paper §6.2, §8). All zeros when there are no helper triangles. Shared by the
 /// background mesher (assemble) and the conforming mesher (dim3/conforming_mesh3.cpp).
-std::vector<char> helper_nodes(const Complex3& complex, const Immersion& immersion, std::size_t input_triangles);
+std::vector<char> helper_nodes(const Complex& complex, const Immersion& immersion, std::size_t input_triangles);
 
 /// The assembly stage of meshing (dim3/mesh3.cpp): one atom per graph node per local region,
 /// fused across the immersion graph's edges, duplicated and connected by unglue<3>, helper-box
@@ -109,8 +109,8 @@ std::vector<char> helper_nodes(const Complex3& complex, const Immersion& immersi
 /// contents (when `record_contents`; `local` must then hold the embedded pieces) and the output
 /// counts of result.stats; an input vertex the background does not cover adds a NotCovered
 /// defect. @pre `local` was computed on `background`.
-void assemble(const Complex3& complex, const Immersion& immersion, const TetMesh& background,
+void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
               const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
-              bool record_contents, MeshResult3& result);
+              bool record_contents, MeshResult& result);
 
 }  // namespace imm::dim3::detail

@@ -63,20 +63,20 @@ Surface box_surface(const Box3& b) {
   return s;
 }
 
-Immersed3 immerse_surface(const Surface& surface, const ImmerseOptions3& options) {
-  Immersed3 out;
+Immersed immerse_surface(const Surface& surface, const ImmerseOptions& options) {
+  Immersed out;
   out.input_triangles = surface.triangle_count();
   out.input_vertices = surface.vertex_count();
   Surface current = surface;
   int attempt = 0;
   std::optional<Box3> pending;  // the box being tried
   Box3 pending_cell;            // bounding box of the cell it cuts
-  bool reversed_input = false;  // build_complex3 flips inside-out input as a whole
+  bool reversed_input = false;  // build_complex flips inside-out input as a whole
   Surface before_box;
-  BuildOptions3 build_options = options.build;
+  BuildOptions build_options = options.build;
   while (true) {
     auto start = std::chrono::steady_clock::now();
-    BuildResult3 build = build_complex3(current, build_options);
+    BuildResult build = build_complex(current, build_options);
     out.build_seconds += seconds_since(start);
     if (!out.repair && build.repair) {
       // The user's local folds, repaired (or not) on the first build: later builds start from the
@@ -107,7 +107,7 @@ Immersed3 immerse_surface(const Surface& surface, const ImmerseOptions3& options
       out.helper_boxes.push_back(*pending);
       pending.reset();
     }
-    const Complex3& c3 = *out.build.complex;
+    const Complex& c3 = *out.build.complex;
     start = std::chrono::steady_clock::now();
     out.search = find_immersions(c3.complex, options.search);
     out.search_seconds += seconds_since(start);
@@ -130,12 +130,12 @@ Immersed3 immerse_surface(const Surface& surface, const ImmerseOptions3& options
                         std::to_string(c3.region_genus[region]) + ") may be self-connecting: cut with helper box " +
                         describe_box(*pending) + " (paper §6.2)");
     before_box = current;
-    // An inside-out input is flipped as a whole by build_complex3: flip the box with it.
+    // An inside-out input is flipped as a whole by build_complex: flip the box with it.
     current = merge(current, reversed_input ? inside_out(box_surface(*pending)) : box_surface(*pending));
   }
 }
 
-std::string helper_box_hint(const Immersed3& im, bool boxes_allowed) {
+std::string helper_box_hint(const Immersed& im, bool boxes_allowed) {
   const std::size_t boxes = im.helper_boxes.size();
   std::string hint;
   if (im.search.status == ImmersionStatus::SelfConnectingCell && !boxes_allowed) {
@@ -150,7 +150,7 @@ std::string helper_box_hint(const Immersed3& im, bool boxes_allowed) {
   return hint;
 }
 
-std::string helper_box_defect_note(const Immersed3& im) {
+std::string helper_box_defect_note(const Immersed& im) {
   for (const Defect& d : im.build.report.defects) {
     for (long f : d.facets) {
       if (f >= static_cast<long>(im.input_triangles)) {

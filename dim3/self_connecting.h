@@ -20,15 +20,15 @@
 
 namespace imm::dim3 {
 
-struct ImmerseOptions3 {
-  BuildOptions3 build;
+struct ImmerseOptions {
+  BuildOptions build;
   SearchOptions search;
   int max_boxes = 8;  ///< 0 disables helper boxes (the SelfConnectingCell verdict is returned)
 };
 
-struct Immersed3 {
+struct Immersed {
   Surface surface;                    ///< the final input: the user's surface, then 12 triangles per box
-  BuildResult3 build;                 ///< of `surface`
+  BuildResult build;                 ///< of `surface`
   SearchResult search;                ///< on build.complex (empty when the build failed)
   std::vector<Box3> helper_boxes;     ///< in the order they were added
   std::size_t input_triangles = 0;    ///< triangles [0, input_triangles) are the user's
@@ -36,7 +36,7 @@ struct Immersed3 {
   std::vector<std::string> notes;     ///< what was done about self-connecting cells
   /// The user's exact contacts and their resolution (first build); `surface` then starts from
   /// the perturbed input.
-  std::optional<Contacts3> contacts;
+  std::optional<Contacts> contacts;
   /// The user's local folds and their repair (--repair-folds), from the first build; when ok,
   /// `surface` starts from the repaired input.
   std::optional<FoldRepair> repair;
@@ -46,16 +46,16 @@ struct Immersed3 {
 
 /// Builds the complex, searches, and cuts self-connecting cells with helper boxes until the
 /// search gives a verdict other than SelfConnectingCell (or the box budget is spent).
-Immersed3 immerse_surface(const Surface& surface, const ImmerseOptions3& options = {});
+Immersed immerse_surface(const Surface& surface, const ImmerseOptions& options = {});
 
 /// What a verdict should add when helper boxes were involved: "" or, e.g., " (still
 /// self-connecting after 2 helper boxes) [cell, patch and arc ids refer to the input with 2 helper
 /// boxes added; see the notes above]". `boxes_allowed`: false when max_boxes was 0.
-std::string helper_box_hint(const Immersed3& im, bool boxes_allowed);
+std::string helper_box_hint(const Immersed& im, bool boxes_allowed);
 
 /// "" or the note that defects name helper-box triangles ("triangles from id N on belong to the
 /// helper boxes ..."), for a failed build.
-std::string helper_box_defect_note(const Immersed3& im);
+std::string helper_box_defect_note(const Immersed& im);
 
 /// The closed, outward-oriented 12-triangle surface of a box.
 Surface box_surface(const Box3& box);

@@ -129,7 +129,7 @@ struct PieceSides {
 
 class VirtualTets {
  public:
-  VirtualTets(const Complex3& complex, const TetMesh& background, const Point3& shift, bool record,
+  VirtualTets(const Complex& complex, const TetMesh& background, const Point3& shift, bool record,
               unsigned threads, bool interval_filter, ValidationReport& report, bool& non_generic)
       : threads_(std::max(1u, threads)),
         interval_filter_(interval_filter),
@@ -921,7 +921,7 @@ class VirtualTets {
   const unsigned threads_;
   const bool interval_filter_;
   const Point3 shift_;
-  const Complex3& c_;
+  const Complex& c_;
   const CutMesh& m_;
   const TetMesh& bg_;
   const bool record_;
@@ -946,7 +946,7 @@ class VirtualTets {
 
 }  // namespace
 
-LocalRegions compute_local_regions(const Complex3& complex, const TetMesh& background, const Point3& shift,
+LocalRegions compute_local_regions(const Complex& complex, const TetMesh& background, const Point3& shift,
                                    bool record_embedded, unsigned threads, bool interval_filter,
                                    ValidationReport& report, bool& non_generic) {
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");

@@ -154,7 +154,7 @@ struct TetOut {
 
 class CsgTets {
  public:
-  CsgTets(const Complex3& complex, const TetMesh& background, bool record, unsigned threads, const LogCallback& progress,
+  CsgTets(const Complex& complex, const TetMesh& background, bool record, unsigned threads, const LogCallback& progress,
           ValidationReport& report, bool& non_generic)
       : c_(complex), m_(*complex.exact), bg_(background), record_(record), threads_(threads), progress_(progress),
         report_(report), non_generic_(non_generic) {}
@@ -708,7 +708,7 @@ class CsgTets {
     }
   }
 
-  const Complex3& c_;
+  const Complex& c_;
   const CutMesh& m_;
   const TetMesh& bg_;
   const bool record_;
@@ -727,7 +727,7 @@ class CsgTets {
 
 }  // namespace
 
-LocalRegions compute_local_regions_csg(const Complex3& complex, const TetMesh& background, bool record_embedded,
+LocalRegions compute_local_regions_csg(const Complex& complex, const TetMesh& background, bool record_embedded,
                                        unsigned threads, const LogCallback& progress, ValidationReport& report,
                                        bool& non_generic) {
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");

@@ -24,22 +24,22 @@ int main(int argc, char** argv) {
                       "(input: intersecting triangles red); the output can be pulled apart.");
     const int loops = args.quick ? 2 : 4;
     const dim3::Surface helix = dim3::helix(loops, args.quick ? 12 : 20);
-    dim3::ImmerseOptions3 options;
+    dim3::ImmerseOptions options;
     options.build.exact_volumes = false;
-    const dim3::Immersed3 im = dim3::immerse_surface(helix, options);
+    const dim3::Immersed im = dim3::immerse_surface(helix, options);
     figures::expect(im.build.complex && im.search.status == ImmersionStatus::Immersible &&
                         im.search.immersions.size() == 1,
                     "the helix has exactly one immersion");
-    const dim3::Complex3& complex = *im.build.complex;
+    const dim3::Complex& complex = *im.build.complex;
     const int max_winding = complex.complex.max_winding_number();
     figures::expect(max_winding == 2, "consecutive turns overlap: max winding number 2");
     const std::vector<bool> crossing = render::intersecting_triangles(complex);
     const auto red_triangles = std::count(crossing.begin(), crossing.end(), true);
     figures::expect(red_triangles > 0, "the turns intersect: some input triangles cross");
 
-    dim3::MeshOptions3 mesh_options;
+    dim3::MeshOptions mesh_options;
     mesh_options.resolution = args.quick ? 14 : 36;
-    const dim3::MeshResult3 mesh = dim3::mesh_immersion3(complex, im.search.immersions.front(), mesh_options);
+    const dim3::MeshResult mesh = dim3::mesh_immersion(complex, im.search.immersions.front(), mesh_options);
     figures::expect(mesh.report.ok(), "the helix meshes");
     std::map<int, std::size_t> copies;
     for (int t : mesh.background_tet) ++copies[t];

@@ -108,15 +108,15 @@ int main(int argc, char** argv) {
       displacement.push_back(kPull * (away + std::abs(away.dot(radial)) * radial));
     }
 
-    dim3::ImmerseOptions3 io;
+    dim3::ImmerseOptions io;
     io.build.exact_volumes = false;
-    const dim3::Immersed3 im = dim3::immerse_surface(torus, io);
+    const dim3::Immersed im = dim3::immerse_surface(torus, io);
     figures::expect(im.build.complex && !im.search.immersions.empty() && !im.helper_boxes.empty(),
                     "with a helper box the double-loop torus is immersible");
-    dim3::MeshOptions3 options;
+    dim3::MeshOptions options;
     options.resolution = args.quick ? 20 : 28;
-    const dim3::MeshResult3 mesh =
-        dim3::mesh_immersion3(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
+    const dim3::MeshResult mesh =
+        dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
     figures::expect(mesh.report.ok(), mesh.report.summary());
     const deform::DeformableInput<3> in = deform::deformable(mesh);
 

@@ -18,17 +18,17 @@ int main(int argc, char** argv) {
                       "as a separate component cuts it, and the model is then immersible.");
     const dim3::Surface torus = dim3::double_loop_torus(args.quick ? 24 : 64);
 
-    dim3::ImmerseOptions3 no_boxes;
+    dim3::ImmerseOptions no_boxes;
     no_boxes.max_boxes = 0;
     no_boxes.build.exact_volumes = false;
-    const dim3::Immersed3 before = dim3::immerse_surface(torus, no_boxes);
+    const dim3::Immersed before = dim3::immerse_surface(torus, no_boxes);
     figures::expect(before.build.complex != nullptr, "the double-loop torus is valid input");
     figures::expect(before.search.status == ImmersionStatus::SelfConnectingCell,
                     "Fig. 13: the double-loop torus has a self-connecting cell");
 
-    dim3::ImmerseOptions3 with_boxes;
+    dim3::ImmerseOptions with_boxes;
     with_boxes.build.exact_volumes = false;
-    const dim3::Immersed3 after = dim3::immerse_surface(torus, with_boxes);
+    const dim3::Immersed after = dim3::immerse_surface(torus, with_boxes);
     figures::expect(after.search.status == ImmersionStatus::Immersible && after.helper_boxes.size() == 1,
                     "Fig. 17: one helper box makes the double-loop torus immersible");
     const CellComplex<3>& c = after.build.complex->complex;

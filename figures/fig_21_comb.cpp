@@ -25,7 +25,7 @@ struct CombRun {
   std::string name;
   dim3::Surface surface;
   std::size_t triangles = 0;
-  dim3::MeshResult3 mesh;
+  dim3::MeshResult mesh;
   std::size_t duplicated = 0;  ///< background tets with more copies than their cell's winding number
   std::size_t components = 0;  ///< face-connected components of the output
 };
@@ -49,16 +49,16 @@ std::size_t components(const dim3::TetMesh& m) {
   return n;
 }
 
-CombRun run(const std::string& name, const dim3::Surface& surface, const dim3::MeshOptions3& options) {
-  dim3::ImmerseOptions3 immerse;
+CombRun run(const std::string& name, const dim3::Surface& surface, const dim3::MeshOptions& options) {
+  dim3::ImmerseOptions immerse;
   immerse.build.exact_volumes = false;
-  const dim3::Immersed3 im = dim3::immerse_surface(surface, immerse);
+  const dim3::Immersed im = dim3::immerse_surface(surface, immerse);
   figures::expect(im.build.complex && im.search.status == ImmersionStatus::Immersible,
                   name + " is immersible");
   const CellComplex<3>& c = im.build.complex->complex;
   figures::expect(c.cell_count() == 1 && c.arc_count() == 0, name + " has no self-intersection: one cell");
   CombRun r{name, surface, surface.triangle_count(),
-            dim3::mesh_immersion3(*im.build.complex, im.search.immersions.front(), options, im.input_vertices,
+            dim3::mesh_immersion(*im.build.complex, im.search.immersions.front(), options, im.input_vertices,
                                   im.input_triangles)};
   figures::expect(r.mesh.report.ok(), name + " meshes: " + r.mesh.report.summary());
   std::map<int, std::size_t> copies;
@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
                       "tet vertices are duplicated to embed a comb: a tet spanning the gap between two teeth "
                       "is copied once per tooth, so nearly touching parts are not welded.");
     std::vector<CombRun> runs;
-    dim3::MeshOptions3 grid;
+    dim3::MeshOptions grid;
     grid.resolution = args.quick ? 16 : 40;
     runs.push_back(run("comb (generated, 8 teeth)", dim3::comb(8), grid));
     runs.push_back(run("mouth (generated)", dim3::mouth(args.quick ? 24 : 48), grid));
@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     if (!args.quick && std::filesystem::exists(real) && std::filesystem::exists(veg)) {
       const dim3::SurfaceReadResult read = dim3::read_surface(real.string());
       figures::expect(read.report.ok(), "comb.obj reads");
-      dim3::MeshOptions3 vega;
+      dim3::MeshOptions vega;
       vega.background_path = veg.string();
       runs.push_back(run("comb.obj on comb.tet.veg (Vega)", read.surface, vega));
     }

@@ -106,7 +106,7 @@ long surface_genus(const dim3::Surface& s) {
 }
 
 Row run(const std::string& model, const std::string& paper, const dim3::Surface& surface,
-        const dim3::MeshOptions3& options) {
+        const dim3::MeshOptions& options) {
   std::cout << "table_1: " << model << ": " << surface.vertex_count() << " vertices, " << surface.triangle_count()
             << " triangles ..." << std::endl;
   Row r;
@@ -118,15 +118,15 @@ Row run(const std::string& model, const std::string& paper, const dim3::Surface&
   r.triangles = surface.triangle_count();
   r.genus = surface_genus(surface);
 
-  dim3::ImmerseOptions3 immerse;
+  dim3::ImmerseOptions immerse;
   immerse.build.exact_volumes = false;  // the search does not read volumes (BENCHMARKS: doubles)
   const auto start = std::chrono::steady_clock::now();
-  const dim3::Immersed3 im = dim3::immerse_surface(surface, immerse);
+  const dim3::Immersed im = dim3::immerse_surface(surface, immerse);
   figures::expect(im.build.complex && im.search.status == ImmersionStatus::Immersible &&
                       !im.search.immersions.empty(),
                   model + " is immersible" + (im.build.report.ok() ? "" : ": " + im.build.report.summary()));
   const auto mesh_start = std::chrono::steady_clock::now();
-  dim3::MeshResult3 mesh = dim3::mesh_immersion3(*im.build.complex, im.search.immersions.front(), options,
+  dim3::MeshResult mesh = dim3::mesh_immersion(*im.build.complex, im.search.immersions.front(), options,
                                                  im.input_vertices, im.input_triangles);
   r.t_mesh = seconds_since(mesh_start);
   r.t_total = seconds_since(start);
@@ -162,7 +162,7 @@ Row run(const std::string& model, const std::string& paper, const dim3::Surface&
 /// A generated model, checked against the counts its construction implies.
 /// `genus`: the total genus the construction gives (sphere-like pieces 0, each torus 1).
 Row run_generated(const std::string& generator, const std::vector<std::string>& params, long genus,
-                  const std::string& paper, const dim3::MeshOptions3& options) {
+                  const std::string& paper, const dim3::MeshOptions& options) {
   const dim3::SurfaceGenerateResult g = dim3::generate_surface(generator, params);
   figures::expect(g.ok(), generator + ": " + g.error);
   std::string model = generator;
@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
                       "per model: vertices, triangles, genus, cells, patches, arcs, max winding, output tets "
                       "and times; the models' collided faces are red in their pictures.");
     const bool q = args.quick;
-    dim3::MeshOptions3 grid;
+    dim3::MeshOptions grid;
     grid.resolution = q ? 8 : 24;
 
     std::vector<Row> rows;
@@ -233,7 +233,7 @@ int main(int argc, char** argv) {
     if (std::filesystem::exists(obj) && std::filesystem::exists(veg)) {
       const dim3::SurfaceReadResult read = dim3::read_surface(obj.string());
       figures::expect(read.report.ok(), "quintupleTorus.obj reads: " + read.report.summary());
-      dim3::MeshOptions3 vega;
+      dim3::MeshOptions vega;
       vega.background_path = veg.string();
       Row r = run("quintupleTorus.obj", "quintuple torus", read.surface, vega);
       // The paper's own input: its size is the paper's; the counts are those this code is known to give.

@@ -56,9 +56,9 @@ Comparison compare3(const std::string& generator, const std::vector<std::string>
   for (const std::string& p : params) c.input += " " + p;
   c.input += " (" + std::to_string(g.surface.triangle_count()) + " triangles)";
   const auto start = std::chrono::steady_clock::now();
-  dim3::ImmerseOptions3 options;
+  dim3::ImmerseOptions options;
   options.build.exact_volumes = false;
-  const dim3::Immersed3 im = dim3::immerse_surface(g.surface, options);
+  const dim3::Immersed im = dim3::immerse_surface(g.surface, options);
   figures::expect(im.build.complex && !im.search.immersions.empty(), c.input + " is immersible");
   c.before_meshing = seconds_since(start);
   const unsigned all = resolve_threads(0);
@@ -75,14 +75,14 @@ Comparison compare3(const std::string& generator, const std::vector<std::string>
     variants.push_back({MeshMethod::Clip, all, "clip, " + all_threads});
   }
   for (const Variant& v : variants) {
-    dim3::MeshOptions3 mesh;
+    dim3::MeshOptions mesh;
     mesh.resolution = resolution;
     mesh.method = v.method;
     mesh.threads = v.threads;
     std::cout << "table_2: 3D " << v.name << " on " << c.input << std::endl;
     const auto t0 = std::chrono::steady_clock::now();
-    const dim3::MeshResult3 m =
-        dim3::mesh_immersion3(*im.build.complex, im.search.immersions.front(), mesh, im.input_vertices, im.input_triangles);
+    const dim3::MeshResult m =
+        dim3::mesh_immersion(*im.build.complex, im.search.immersions.front(), mesh, im.input_vertices, im.input_triangles);
     const double meshing = seconds_since(t0);
     figures::expect(m.report.ok(), c.input + " meshes: " + m.report.summary());
     c.background = std::to_string(m.stats.background_tets) + " tets (grid " + std::to_string(resolution) + ", " +

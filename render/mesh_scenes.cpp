@@ -8,7 +8,7 @@
 
 namespace imm::render {
 
-std::vector<bool> intersecting_triangles(const dim3::Complex3& complex) {
+std::vector<bool> intersecting_triangles(const dim3::Complex& complex) {
   std::vector<std::size_t> pieces(complex.surface.triangle_count(), 0);
   for (std::uint32_t source : complex.cut_triangle_source)
     if (source < pieces.size()) ++pieces[source];
@@ -33,7 +33,7 @@ Part surface_part(const dim3::Surface& surface, const std::vector<bool>& interse
   return part;
 }
 
-Scene surface_scene(const dim3::Surface& surface, const dim3::Complex3* complex, bool smooth) {
+Scene surface_scene(const dim3::Surface& surface, const dim3::Complex* complex, bool smooth) {
   Scene scene;
   scene.parts.push_back(surface_part(surface, complex ? intersecting_triangles(*complex) : std::vector<bool>{},
                                      colors::kSurface, smooth));

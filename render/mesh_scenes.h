@@ -20,7 +20,7 @@ namespace imm::render {
 
 /// Per input triangle of the complex's surface: true when it crosses another triangle (the
 /// exact refinement cut it into several sub-triangles). Paper §4.1.
-std::vector<bool> intersecting_triangles(const dim3::Complex3& complex);
+std::vector<bool> intersecting_triangles(const dim3::Complex& complex);
 
 /// The surface as one part: `intersecting` (per triangle, may be empty) drawn in
 /// colors::kIntersecting, the rest in `color`.
@@ -29,7 +29,7 @@ Part surface_part(const dim3::Surface& surface, const std::vector<bool>& interse
 
 /// A scene of the surface (surface_part) and, when `complex` is given, its intersection curves
 /// (the arcs) as thin dark red tubes.
-Scene surface_scene(const dim3::Surface& surface, const dim3::Complex3* complex = nullptr, bool smooth = false);
+Scene surface_scene(const dim3::Surface& surface, const dim3::Complex* complex = nullptr, bool smooth = false);
 
 /// A half-space kept by a cut-away: points with normal . p <= offset.
 struct CutPlane {

@@ -211,11 +211,11 @@ int run_render_command(const std::vector<std::string>& args, std::ostream& out, 
       err << "immerse render: " << input << ": " << read.report.summary() << '\n';
       return 2;
     }
-    std::shared_ptr<dim3::Complex3> complex;
+    std::shared_ptr<dim3::Complex> complex;
     if (intersections) {
-      dim3::BuildOptions3 build_options;
+      dim3::BuildOptions build_options;
       build_options.exact_volumes = false;
-      const dim3::BuildResult3 built = dim3::build_complex3(read.surface, build_options);
+      const dim3::BuildResult built = dim3::build_complex(read.surface, build_options);
       if (built.complex) {
         complex = built.complex;
       } else {

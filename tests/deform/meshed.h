@@ -41,16 +41,16 @@ struct Meshed3 {
 
 inline Meshed3 mesh_surface(const dim3::Surface& surface, int resolution) {
   Meshed3 m{surface, {}};
-  dim3::ImmerseOptions3 io;
+  dim3::ImmerseOptions io;
   io.build.exact_volumes = false;
-  const dim3::Immersed3 im = dim3::immerse_surface(surface, io);
+  const dim3::Immersed im = dim3::immerse_surface(surface, io);
   EXPECT_TRUE(im.build.report.ok() && im.build.complex && !im.search.immersions.empty());
   if (!im.build.complex || im.search.immersions.empty()) return m;
-  dim3::MeshOptions3 options;
+  dim3::MeshOptions options;
   options.resolution = resolution;
   options.threads = 1;
-  const dim3::MeshResult3 result =
-      dim3::mesh_immersion3(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
+  const dim3::MeshResult result =
+      dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
   EXPECT_TRUE(result.report.ok()) << result.report.summary();
   m.input = deformable(result);
   return m;

@@ -90,7 +90,7 @@ struct Summary {
 
 /// Builds, checks invariants 1-4 and returns what must not change under a metamorphic change.
 Summary check_invariants(const Surface& s, bool rotated_volume = false) {
-  const BuildResult3 r = build_complex3(s);
+  const BuildResult r = build_complex(s);
   EXPECT_TRUE(r.report.ok()) << r.report.summary();
   Summary out;
   if (!r.complex) return out;
@@ -228,10 +228,10 @@ TEST(Complex3Invariants, MetamorphicRotationReindexingAndFarCopy) {
 
 TEST(Complex3Invariants, ThreadCountDoesNotChangeTheComplex) {
   const Surface s = random_blobs(4, 11);
-  BuildOptions3 one, two;
+  BuildOptions one, two;
   one.threads = 1;
   two.threads = 2;
-  const BuildResult3 a = build_complex3(s, one), b = build_complex3(s, two);
+  const BuildResult a = build_complex(s, one), b = build_complex(s, two);
   ASSERT_TRUE(a.complex && b.complex);
   EXPECT_EQ(a.complex->cut_triangles, b.complex->cut_triangles);
   EXPECT_EQ(a.complex->cut_triangle_patch, b.complex->cut_triangle_patch);
@@ -248,7 +248,7 @@ TEST(Complex3Real, QuintupleTorusMatchesThePaper) {
   if (!have_real()) GTEST_SKIP() << "../shared/data absent";
   const SurfaceReadResult in = read_surface(real("quintupleTorus.obj"));
   ASSERT_TRUE(in.report.ok()) << in.report.summary();
-  const BuildResult3 r = build_complex3(in.surface);
+  const BuildResult r = build_complex(in.surface);
   ASSERT_TRUE(r.complex) << r.report.summary();
   const CellComplex<3>& c = r.complex->complex;
   // Paper Table 1 / SOURCES.md: 314 cells (outer region not counted), 886 patches, 850
@@ -300,9 +300,9 @@ TEST(Complex3Real, EveryFileGetsItsVerdict) {
     SCOPED_TRACE(rc.file);
     const SurfaceReadResult in = read_surface(real(rc.file));
     ASSERT_TRUE(in.report.ok()) << in.report.summary();
-    ImmerseOptions3 options;
+    ImmerseOptions options;
     options.build.exact_volumes = false;
-    const Immersed3 r = immerse_surface(in.surface, options);
+    const Immersed r = immerse_surface(in.surface, options);
     int verdict = 0;
     if (!r.build.report.ok()) verdict = 2;
     else if (!r.build.folds.ok() || r.build.inversion || r.search.status != ImmersionStatus::Immersible) verdict = 3;

@@ -67,7 +67,7 @@ void expect_patch_sides(const CellComplex<3>& c) {
 }
 
 TEST(Complex3, SingleBoxIsOneCellWithExactVolume) {
-  const BuildResult3 r = build_complex3(box({0, 0, 0}, {1.5, 2, 0.25}));
+  const BuildResult r = build_complex(box({0, 0, 0}, {1.5, 2, 0.25}));
   ASSERT_TRUE(r.report.ok()) << r.report.summary();
   ASSERT_TRUE(r.complex);
   const CellComplex<3>& c = r.complex->complex;
@@ -80,7 +80,7 @@ TEST(Complex3, SingleBoxIsOneCellWithExactVolume) {
 }
 
 TEST(Complex3, InsideOutBoxIsReversed) {
-  const BuildResult3 r = build_complex3(inside_out(box({0, 0, 0}, {1, 1, 1})));
+  const BuildResult r = build_complex(inside_out(box({0, 0, 0}, {1, 1, 1})));
   ASSERT_TRUE(r.complex) << r.report.summary();
   EXPECT_TRUE(r.complex->reversed);
   EXPECT_EQ(r.complex->complex.cell_count(), 1u);
@@ -91,7 +91,7 @@ TEST(Complex3, TwoOverlappingBoxesGiveThreeCells) {
   // Generic overlap: no face plane shared, no crossing point on a diagonal.
   const Surface a = box({0, 0, 0}, {1, 1, 1});
   const Surface b = box({0.5, 0.25, 0.375}, {1.75, 1.625, 1.5});
-  const BuildResult3 r = build_complex3(merge(a, b));
+  const BuildResult r = build_complex(merge(a, b));
   ASSERT_TRUE(r.complex) << r.report.summary();
   const CellComplex<3>& c = r.complex->complex;
   EXPECT_EQ(c.cell_count(), 3u);
@@ -112,7 +112,7 @@ TEST(Complex3, NestedAndFarAwayComponentsArePlacedByRays) {
   const Surface outer = box({0, 0, 0}, {10, 10, 10});
   const Surface inner = box({2, 3, 4}, {5, 6, 7});
   const Surface far = box({20, 0, 0}, {21, 1, 1});
-  const BuildResult3 r = build_complex3(merge(merge(outer, inner), far));
+  const BuildResult r = build_complex(merge(merge(outer, inner), far));
   ASSERT_TRUE(r.complex) << r.report.summary();
   const CellComplex<3>& c = r.complex->complex;
   EXPECT_EQ(r.complex->groups, 3u);
@@ -131,7 +131,7 @@ TEST(Complex3, NestedAndFarAwayComponentsArePlacedByRays) {
 
 TEST(Complex3, CavityOfAnInsideOutComponentIsAVoid) {
   // A box with an inside-out box inside: a hollow solid (winding 1 shell, winding 0 cavity).
-  const BuildResult3 r = build_complex3(merge(box({0, 0, 0}, {4, 4, 4}), inside_out(box({1, 1, 1}, {2, 3, 2}))));
+  const BuildResult r = build_complex(merge(box({0, 0, 0}, {4, 4, 4}), inside_out(box({1, 1, 1}, {2, 3, 2}))));
   ASSERT_TRUE(r.complex) << r.report.summary();
   const CellComplex<3>& c = r.complex->complex;
   ASSERT_EQ(c.cell_count(), 1u);
@@ -141,7 +141,7 @@ TEST(Complex3, CavityOfAnInsideOutComponentIsAVoid) {
 }
 
 TEST(Complex3, TorusCellIsNotSimplyConnected) {
-  const BuildResult3 r = build_complex3(torus(3, 1, 24, 12));
+  const BuildResult r = build_complex(torus(3, 1, 24, 12));
   ASSERT_TRUE(r.complex) << r.report.summary();
   const CellComplex<3>& c = r.complex->complex;
   ASSERT_EQ(c.cell_count(), 1u);
@@ -153,7 +153,7 @@ TEST(Complex3, ThreeOverlappingToriHaveTriplePoints) {
   // Three tori pushed into one another: three sheets cross at triple points.
   const Surface a = torus(3, 1, 24, 12), b = torus(3, 1, 24, 12, {2.5, 0.1, 0.05}),
                 d = torus(3, 1, 24, 12, {1.2, 2.1, -0.07});
-  const BuildResult3 r = build_complex3(merge(merge(a, b), d));
+  const BuildResult r = build_complex(merge(merge(a, b), d));
   ASSERT_TRUE(r.complex) << r.report.summary();
   const CellComplex<3>& c = r.complex->complex;
   expect_patch_sides(c);
@@ -171,16 +171,16 @@ TEST(Complex3, ThreeOverlappingToriHaveTriplePoints) {
   EXPECT_EQ(winding_volume(c), expected);
 }
 
-BuildOptions3 strict() {
-  BuildOptions3 o;
+BuildOptions strict() {
+  BuildOptions o;
   o.strict = true;  // exact contacts are defects (by default resolved: tests/dim3/contacts3_test.cpp)
   return o;
 }
 
 TEST(Complex3, CoplanarOverlapIsADefect) {
   // Two boxes sharing the plane z = 1 with overlapping faces.
-  const BuildResult3 r =
-      build_complex3(merge(box({0, 0, 0}, {1, 1, 1}), box({0.25, 0.375, 1}, {1.5, 1.5, 2})), strict());
+  const BuildResult r =
+      build_complex(merge(box({0, 0, 0}, {1, 1, 1}), box({0.25, 0.375, 1}, {1.5, 1.5, 2})), strict());
   EXPECT_FALSE(r.report.ok());
   EXPECT_FALSE(r.complex);
   EXPECT_NE(r.report.summary().find("coplanar"), std::string::npos) << r.report.summary();
@@ -190,15 +190,15 @@ TEST(Complex3, VertexTouchingAFaceIsADefect) {
   // An octahedron-like spike: a box whose corner touches the other box's face.
   Surface a = box({0, 0, 0}, {1, 1, 1});
   Surface b = box({1, 0.25, 0.375}, {2, 0.75, 0.625});  // b's face x = 1 lies in a's face plane
-  const BuildResult3 r = build_complex3(merge(a, b), strict());
+  const BuildResult r = build_complex(merge(a, b), strict());
   EXPECT_FALSE(r.report.ok());
   EXPECT_FALSE(r.complex);
 }
 
 TEST(Complex3, InversionIsReported) {
   // A box with an inside-out box crossing its boundary: windings -1 appear outside.
-  const BuildResult3 r =
-      build_complex3(merge(box({0, 0, 0}, {1, 1, 1}), inside_out(box({0.5, 0.25, 0.375}, {1.75, 1.625, 1.5}))));
+  const BuildResult r =
+      build_complex(merge(box({0, 0, 0}, {1, 1, 1}), inside_out(box({0.5, 0.25, 0.375}, {1.75, 1.625, 1.5}))));
   ASSERT_TRUE(r.report.ok()) << r.report.summary();
   ASSERT_TRUE(r.inversion);
   EXPECT_EQ(r.inversion->winding_number, -1);

@@ -77,13 +77,13 @@ double winding_number_at(const Surface& s, std::size_t triangles, const Point3& 
 }
 
 struct Conformed {
-  Immersed3 im;
-  ConformingResult3 mesh;
+  Immersed im;
+  ConformingResult mesh;
 };
 
 Conformed conform(const Surface& surface, double edge_fraction, double radius_edge = 2.0, double min_dihedral = 0.0) {
   Conformed c;
-  ImmerseOptions3 io;
+  ImmerseOptions io;
   io.build.exact_volumes = false;
   c.im = immerse_surface(surface, io);
   EXPECT_TRUE(c.im.build.report.ok()) << c.im.build.report.summary();
@@ -94,11 +94,11 @@ Conformed conform(const Surface& surface, double edge_fraction, double radius_ed
   const Box3 box = bounding_box(surface);
   double longest = 0.0;
   for (int d = 0; d < 3; ++d) longest = std::max(longest, box.hi[d] - box.lo[d]);
-  ConformingOptions3 options;
+  ConformingOptions options;
   options.edge_length = longest * edge_fraction;
   options.radius_edge = radius_edge;
   options.min_dihedral = min_dihedral;
-  c.mesh = mesh_conforming3(*c.im.build.complex, c.im.search.immersions[0], options, c.im.input_vertices,
+  c.mesh = mesh_conforming(*c.im.build.complex, c.im.search.immersions[0], options, c.im.input_vertices,
                             c.im.input_triangles);
   return c;
 }
@@ -106,7 +106,7 @@ Conformed conform(const Surface& surface, double edge_fraction, double radius_ed
 /// Checks 1-8 of the header. `samples`: centroids tested for coverage (every k-th tet).
 void check_conforming(const Conformed& c, std::size_t samples = 40) {
   ASSERT_TRUE(c.mesh.report.ok()) << c.mesh.report.summary();
-  const Complex3& cx = *c.im.build.complex;
+  const Complex& cx = *c.im.build.complex;
   const CellComplex<3>& cc = cx.complex;
   const Immersion& immersion = c.im.search.immersions[0];
   const TetMesh& out = c.mesh.mesh;
@@ -347,12 +347,12 @@ TEST(Conforming3, CutTrianglesOfEachInputTriangleComeInACanonicalOrder) {
   // was not reproducible there (the quintuple torus swapped two faces between runs). So every
   // input triangle cut into several sub-triangles lists them canonically, an order that depends
   // only on the set: each starts at its smallest geometric point, and they increase.
-  ImmerseOptions3 io;
+  ImmerseOptions io;
   io.build.exact_volumes = false;
   io.build.threads = 4;
-  const Immersed3 im = immerse_surface(generated("quintuple-torus", {"24"}), io);
+  const Immersed im = immerse_surface(generated("quintuple-torus", {"24"}), io);
   ASSERT_TRUE(im.build.complex) << im.build.report.summary();
-  const Complex3& c = *im.build.complex;
+  const Complex& c = *im.build.complex;
   ASSERT_EQ(c.cut_triangle_source.size(), c.cut_triangles.size());
   std::size_t checked = 0;
   for (std::size_t x = 0; x < c.cut_triangles.size();) {

@@ -100,9 +100,9 @@ std::ostream& operator<<(std::ostream& os, const Counts& c) {
 
 /// Builds with contacts resolved and checks everything the file comment lists; returns counts.
 Counts build_and_check(const Surface& input, unsigned threads = 0) {
-  BuildOptions3 options;
+  BuildOptions options;
   options.threads = threads;
-  const BuildResult3 r = build_complex3(input, options);
+  const BuildResult r = build_complex(input, options);
   EXPECT_TRUE(r.report.ok()) << r.report.summary();
   EXPECT_TRUE(r.folds.ok()) << r.folds.summary();
   EXPECT_FALSE(r.inversion.has_value());
@@ -110,7 +110,7 @@ Counts build_and_check(const Surface& input, unsigned threads = 0) {
     ADD_FAILURE() << "no complex";
     return {};
   }
-  const Complex3& c3 = *r.complex;
+  const Complex& c3 = *r.complex;
   const CellComplex<3>& c = c3.complex;
   // The perturbation: stated, small, and on the same ids.
   EXPECT_TRUE(r.contacts && r.contacts->perturbation);
@@ -172,9 +172,9 @@ std::vector<Family> families() {
 TEST(Contacts3, StrictModeListsTheContacts) {
   for (const Family& f : families()) {
     SCOPED_TRACE(f.name);
-    BuildOptions3 strict;
+    BuildOptions strict;
     strict.strict = true;
-    const BuildResult3 r = build_complex3(f.surface, strict);
+    const BuildResult r = build_complex(f.surface, strict);
     EXPECT_FALSE(r.report.ok());
     EXPECT_FALSE(r.complex);
     EXPECT_FALSE(r.contacts.has_value());
@@ -198,13 +198,13 @@ TEST(Contacts3, SameCountsUnderRotationReindexingAndThreads) {
     SCOPED_TRACE(f.name);
     EXPECT_EQ(build_and_check(rotated(f.surface)), f.expected);
     EXPECT_EQ(build_and_check(reindexed(f.surface, 7)), f.expected);
-    const BuildResult3 one = build_complex3(f.surface, [] {
-      BuildOptions3 o;
+    const BuildResult one = build_complex(f.surface, [] {
+      BuildOptions o;
       o.threads = 1;
       return o;
     }());
-    const BuildResult3 two = build_complex3(f.surface, [] {
-      BuildOptions3 o;
+    const BuildResult two = build_complex(f.surface, [] {
+      BuildOptions o;
       o.threads = 2;
       return o;
     }());
@@ -218,7 +218,7 @@ TEST(Contacts3, SameCountsUnderRotationReindexingAndThreads) {
 TEST(Contacts3, ReindexingMovesEveryVertexToTheSamePlace) {
   const Surface s = families().front().surface;
   const Surface r = reindexed(s, 3);
-  const BuildResult3 a = build_complex3(s), b = build_complex3(r);
+  const BuildResult a = build_complex(s), b = build_complex(r);
   ASSERT_TRUE(a.complex && b.complex);
   std::vector<Point3> pa = a.complex->surface.vertices, pb = b.complex->surface.vertices;
   std::sort(pa.begin(), pa.end());
@@ -228,7 +228,7 @@ TEST(Contacts3, ReindexingMovesEveryVertexToTheSamePlace) {
 
 TEST(Contacts3, GenericInputIsNeverPerturbed) {
   const Surface s = two_spheres(10);
-  const BuildResult3 r = build_complex3(s);
+  const BuildResult r = build_complex(s);
   ASSERT_TRUE(r.complex) << r.report.summary();
   EXPECT_FALSE(r.contacts.has_value());
   EXPECT_EQ(r.complex->surface.vertices, s.vertices);
@@ -250,9 +250,9 @@ TEST(Contacts3, SeededRandomBoxesOnAGrid) {
       }
       s = k == 0 ? box(lo, hi) : merge(s, box(lo, hi));
     }
-    BuildOptions3 strict;
+    BuildOptions strict;
     strict.strict = true;
-    const BuildResult3 as_is = build_complex3(s, strict);
+    const BuildResult as_is = build_complex(s, strict);
     if (as_is.complex) continue;  // this seed happens to be generic
     const Counts c = build_and_check(s);
     EXPECT_GE(c.cells, 1u);
@@ -273,7 +273,7 @@ Surface folded_sphere(std::uint32_t& v) {
 TEST(Contacts3, LocalFoldIsAVerdictNamingTheVertex) {
   std::uint32_t v = 0;
   const Surface s = folded_sphere(v);
-  const BuildResult3 r = build_complex3(s);
+  const BuildResult r = build_complex(s);
   EXPECT_TRUE(r.report.ok()) << r.report.summary();
   EXPECT_FALSE(r.complex);
   ASSERT_FALSE(r.folds.ok());
@@ -300,9 +300,9 @@ TEST(Contacts3Real, DoubleLoopWithCube) {
     if (!std::filesystem::exists(real(name))) GTEST_SKIP() << "../shared/data absent";
     const SurfaceReadResult in = read_surface(real(name));
     ASSERT_TRUE(in.report.ok()) << in.report.summary();
-    BuildOptions3 strict;
+    BuildOptions strict;
     strict.strict = true;
-    EXPECT_FALSE(build_complex3(in.surface, strict).report.ok());  // the exact contacts
+    EXPECT_FALSE(build_complex(in.surface, strict).report.ok());  // the exact contacts
     const Counts c = build_and_check(in.surface);
     // The counts of the perturbed input (the reference reports 11 regions counting the outside,
     // 21 patches, 17 arcs, max winding 3 under its own resolution of the same contacts).

@@ -112,13 +112,13 @@ struct Case {
 /// Both methods on `surface` over a generated grid of `resolution` cubes give the same
 /// duplication (see the file comment).
 void expect_same_duplication(const Surface& surface, const std::string& name, int resolution) {
-  ImmerseOptions3 options;
+  ImmerseOptions options;
   options.build.exact_volumes = false;
-  const Immersed3 im = immerse_surface(surface, options);
+  const Immersed im = immerse_surface(surface, options);
   ASSERT_TRUE(im.build.report.ok()) << im.build.report.summary();
   ASSERT_TRUE(im.build.complex != nullptr);
   ASSERT_FALSE(im.search.immersions.empty());
-  const Complex3& complex = *im.build.complex;
+  const Complex& complex = *im.build.complex;
   const TetMesh background = make_grid_background(bounding_box(complex.surface), resolution, 0);
 
   ValidationReport clip_report, csg_report;
@@ -209,11 +209,11 @@ TEST(CsgBaselineReal, Comb) {
 TEST(CsgBaselineThreads, TheThreadCountDoesNotChangeTheResult) {
   const SurfaceGenerateResult g = generate_surface("comb", {"2"});
   ASSERT_TRUE(g.ok()) << g.error;
-  ImmerseOptions3 options;
+  ImmerseOptions options;
   options.build.exact_volumes = false;
-  const Immersed3 im = immerse_surface(g.surface, options);
+  const Immersed im = immerse_surface(g.surface, options);
   ASSERT_TRUE(im.build.complex != nullptr);
-  const Complex3& complex = *im.build.complex;
+  const Complex& complex = *im.build.complex;
   const TetMesh background = make_grid_background(bounding_box(complex.surface), 5, 0);  // 5 blocks of tets
   std::vector<LocalRegions> results;
   for (unsigned threads : {1u, 2u, 3u}) {
@@ -256,9 +256,9 @@ TEST(CsgBaselineThreads, TheThreadCountDoesNotChangeTheResult) {
 // baseline takes no translation, so it reports the contact, naming the first tet in tet order
 // whatever the thread count, and stops.
 TEST(CsgBaselineTouching, TheFirstContactInTetOrderIsReported) {
-  ImmerseOptions3 options;
+  ImmerseOptions options;
   options.build.exact_volumes = false;
-  const Immersed3 im = immerse_surface(box_surface(Box3{{0, 0, 0}, {1, 1, 1}}), options);
+  const Immersed im = immerse_surface(box_surface(Box3{{0, 0, 0}, {1, 1, 1}}), options);
   ASSERT_TRUE(im.build.complex != nullptr);
   TetMesh grid = make_grid_background(Box3{{-1, -1, -1}, {2, 2, 2}}, 6, 0);
   for (Point3& v : grid.vertices)

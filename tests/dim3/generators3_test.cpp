@@ -436,10 +436,10 @@ TEST(SurfaceGenerators, TwoToriCountsMatchTheComplexAndTheSearch) {
     SCOPED_TRACE(n);
     const ExpectedSurfaceCounts e = expected_surface_counts("two-tori", {n});
     ASSERT_TRUE(e.error.empty()) << e.error;
-    ImmerseOptions3 options;
+    ImmerseOptions options;
     options.build.exact_volumes = false;
     options.search.max_immersions = 0;  // all of them
-    const Immersed3 im = immerse_surface(make("two-tori", {n}), options);
+    const Immersed im = immerse_surface(make("two-tori", {n}), options);
     ASSERT_TRUE(im.build.report.ok()) << im.build.report.summary();
     ASSERT_FALSE(im.build.inversion.has_value());
     ASSERT_TRUE(im.build.complex);

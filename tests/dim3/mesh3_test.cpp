@@ -1,4 +1,4 @@
-// DESIGN §4 invariants 5-7 for 3D meshing (paper §7), proven on the OUTPUT of mesh_immersion3
+// DESIGN §4 invariants 5-7 for 3D meshing (paper §7), proven on the OUTPUT of mesh_immersion
 // with checkers written here, independent of dim3/virtual_tets.cpp:
 //  - orientation: every output tet positive (CGAL Epick orientation on the doubles is exact) and
 //    a copy of its background tet's corners;
@@ -292,16 +292,16 @@ class LocalSheets {
 // ---- one meshed input ------------------------------------------------------------------------
 
 struct Meshed {
-  Immersed3 im;
-  MeshResult3 mesh;
+  Immersed im;
+  MeshResult mesh;
   double seconds = 0.0;
 };
 
 /// Builds, searches and meshes (with contents). Fails the test when any step does not succeed.
-Meshed mesh_surface(const Surface& surface, const MeshOptions3& mesh_options) {
+Meshed mesh_surface(const Surface& surface, const MeshOptions& mesh_options) {
   const auto start = std::chrono::steady_clock::now();
   Meshed m;
-  ImmerseOptions3 io;
+  ImmerseOptions io;
   io.build.exact_volumes = false;
   m.im = immerse_surface(surface, io);
   EXPECT_TRUE(m.im.build.report.ok()) << m.im.build.report.summary();
@@ -310,11 +310,11 @@ Meshed mesh_surface(const Surface& surface, const MeshOptions3& mesh_options) {
     ADD_FAILURE() << "no immersion (" << to_string(m.im.search.status) << ")";
     return m;
   }
-  MeshOptions3 options = mesh_options;
+  MeshOptions options = mesh_options;
   options.record_contents = true;
   // The checks below read the whole input as the user's (no helper-box solids dropped).
   EXPECT_TRUE(m.im.helper_boxes.empty());
-  m.mesh = mesh_immersion3(*m.im.build.complex, m.im.search.immersions[0], options, m.im.input_vertices,
+  m.mesh = mesh_immersion(*m.im.build.complex, m.im.search.immersions[0], options, m.im.input_vertices,
                            m.im.input_triangles);
   m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return m;
@@ -323,7 +323,7 @@ Meshed mesh_surface(const Surface& surface, const MeshOptions3& mesh_options) {
 /// Invariants 1-5 (orientation, coverage, embedding, unglued, references) of a meshed input.
 void check_invariants(const Meshed& m, bool expect_inside = true) {
   ASSERT_TRUE(m.mesh.report.ok()) << m.mesh.report.summary();
-  const Complex3& c = *m.im.build.complex;
+  const Complex& c = *m.im.build.complex;
   const Immersion& immersion = m.im.search.immersions[0];
   const TetMesh& out = m.mesh.mesh;
   const TetMesh& bg = m.mesh.background;
@@ -407,7 +407,7 @@ void check_invariants(const Meshed& m, bool expect_inside = true) {
   }
 
   // 3. Embedding. With a read background the input may have been translated by a tiny vector
-  // (MeshStats3::input_shift) so that it meets the background generically: the embedding then
+  // (MeshStats::input_shift) so that it meets the background generically: the embedding then
   // reproduces the translated vertex, and containment is checked only without translation (the
   // translated vertex is not a double).
   const std::size_t n_in = m.im.input_vertices;
@@ -462,7 +462,7 @@ void check_invariants(const Meshed& m, bool expect_inside = true) {
   const auto meeting = triangles_meeting(bg, s, multi);
   std::size_t glued = 0, split = 0;
   for (std::size_t t = 0; t < out.tets.size(); ++t) {
-    const CopyContent3& content = m.mesh.contents[t];
+    const CopyContent& content = m.mesh.contents[t];
     std::vector<std::uint32_t> sources;
     for (std::uint32_t x : content.owned_cut_triangles) sources.push_back(c.cut_triangle_source[x]);
     std::sort(sources.begin(), sources.end());
@@ -648,7 +648,7 @@ TEST_P(Mesh3Invariants, OutputSatisfiesInvariants) {
   bool skip = false;
   const Surface surface = load(in, skip);
   if (skip) GTEST_SKIP() << in.file << " not present";
-  MeshOptions3 options;
+  MeshOptions options;
   options.resolution = in.resolution;
   const Meshed m = mesh_surface(surface, options);
   ASSERT_FALSE(m.im.search.immersions.empty());
@@ -656,11 +656,11 @@ TEST_P(Mesh3Invariants, OutputSatisfiesInvariants) {
   // Every input: crossings and near contacts; where `separation` is set, enough of them.
   check_separation(m, in.separation ? 10 : 0);
   if (in.deterministic) {
-    MeshOptions3 again = options;
+    MeshOptions again = options;
     again.record_contents = true;
-    const MeshResult3 same = mesh_immersion3(*m.im.build.complex, m.im.search.immersions[0], again, m.im.input_vertices);
+    const MeshResult same = mesh_immersion(*m.im.build.complex, m.im.search.immersions[0], again, m.im.input_vertices);
     const Meshed rebuilt = mesh_surface(surface, options);
-    for (const MeshResult3* other : {&same, &rebuilt.mesh}) {
+    for (const MeshResult* other : {&same, &rebuilt.mesh}) {
       EXPECT_EQ(other->mesh.vertices, m.mesh.mesh.vertices);
       EXPECT_EQ(other->mesh.tets, m.mesh.mesh.tets);
       EXPECT_EQ(other->mesh.reference, m.mesh.mesh.reference);
@@ -702,7 +702,7 @@ INSTANTIATE_TEST_SUITE_P(
 // tube's output with every vertex welded to the first output vertex at the same position.
 TEST(Mesh3, CheckersRejectAWeldedOutput) {
   const Meshed m = mesh_surface(tube_overlap(12), [] {
-    MeshOptions3 o;
+    MeshOptions o;
     o.resolution = 24;
     return o;
   }());
@@ -728,7 +728,7 @@ TEST(Mesh3, QuintupleTorusWithItsBackground) {
   if (!std::filesystem::exists(obj) || !std::filesystem::exists(veg)) GTEST_SKIP() << "quintuple torus not present";
   SurfaceReadResult r = read_surface(obj);
   ASSERT_TRUE(r.report.ok()) << r.report.summary();
-  MeshOptions3 options;
+  MeshOptions options;
   options.background_path = veg;
   const Meshed m = mesh_surface(r.surface, options);
   ASSERT_FALSE(m.im.search.immersions.empty());
@@ -761,13 +761,13 @@ TEST(Mesh3, BackgroundNotCoveringTheInputIsReported) {
   const TetMesh half = make_grid_background(Box3{{-1, -1, -1}, {1, 1, 0.1}}, 4);
   const std::string path = temp_path("half.veg");
   std::ofstream(path, std::ios::binary) << format_veg(half);
-  MeshOptions3 options;
+  MeshOptions options;
   options.background_path = path;
-  ImmerseOptions3 io;
+  ImmerseOptions io;
   io.build.exact_volumes = false;
-  const Immersed3 im = immerse_surface(s, io);
+  const Immersed im = immerse_surface(s, io);
   ASSERT_FALSE(im.search.immersions.empty());
-  const MeshResult3 m = mesh_immersion3(*im.build.complex, im.search.immersions[0], options);
+  const MeshResult m = mesh_immersion(*im.build.complex, im.search.immersions[0], options);
   ASSERT_FALSE(m.report.ok());
   for (const Defect& d : m.report.defects) EXPECT_EQ(d.kind, DefectKind::NotCovered) << d.message;
   EXPECT_FALSE(m.report.defects.front().message.empty());
@@ -776,14 +776,14 @@ TEST(Mesh3, BackgroundNotCoveringTheInputIsReported) {
 
 // Every input vertex of comb.obj lying exactly on a face of comb.tet.veg made a Touching verdict;
 // the input is now translated by a tiny vector until every contact is generic
-// (MeshStats3::input_shift), and the output is checked like any other.
+// (MeshStats::input_shift), and the output is checked like any other.
 TEST(Mesh3, RealCombWithItsBackgroundIsShifted) {
   const std::string obj = real_dir() + "/3d/comb.obj";
   const std::string veg = real_dir() + "/tet/comb.tet.veg";
   if (!std::filesystem::exists(obj) || !std::filesystem::exists(veg)) GTEST_SKIP() << "comb not present";
   SurfaceReadResult r = read_surface(obj);
   ASSERT_TRUE(r.report.ok()) << r.report.summary();
-  MeshOptions3 options;
+  MeshOptions options;
   options.background_path = veg;
   const Meshed m = mesh_surface(r.surface, options);
   ASSERT_FALSE(m.im.search.immersions.empty());
@@ -833,7 +833,7 @@ TEST(Mesh3Contacts, TouchingCubesMeshApart) {
   const Surface a = grid_box({0, 0, 0}, {1, 1, 1});
   for (const Surface& s : {merge(a, grid_box({1, 0, 0}, {2, 1, 1})), merge(a, grid_box({1, 1, 0}, {2, 2, 1})),
                            merge(a, grid_box({0.5, 0.5, 1}, {1.5, 1.5, 2}))}) {
-    MeshOptions3 options;
+    MeshOptions options;
     options.resolution = 8;
     options.threads = 1;
     const Meshed m = mesh_surface(s, options);
@@ -857,7 +857,7 @@ TEST(Mesh3Contacts, DoubleLoopWithCubeOnItsBackground) {
   if (!std::filesystem::exists(obj) || !std::filesystem::exists(veg)) GTEST_SKIP() << "doubleLoopWithCube absent";
   SurfaceReadResult r = read_surface(obj);
   ASSERT_TRUE(r.report.ok()) << r.report.summary();
-  MeshOptions3 options;
+  MeshOptions options;
   options.background_path = veg;
   const Meshed m = mesh_surface(r.surface, options);
   ASSERT_FALSE(m.im.search.immersions.empty());

@@ -33,12 +33,12 @@ std::string label(const Pile& p) {
 }
 
 /// Builds the complex of a generated pile (volumes in doubles: the search does not read them).
-BuildResult3 build(const Pile& p) {
+BuildResult build(const Pile& p) {
   const SurfaceGenerateResult g = generate_surface(p.generator, p.args);
   EXPECT_TRUE(g.ok()) << g.error;
-  BuildOptions3 options;
+  BuildOptions options;
   options.exact_volumes = false;
-  return build_complex3(g.surface, options);
+  return build_complex(g.surface, options);
 }
 
 std::set<std::string> expect_valid(const CellComplex<3>& complex, const SearchResult& result) {
@@ -65,7 +65,7 @@ TEST(PileSearch3, FirstImmersionOfEveryPileIsFoundAndValid) {
   piles.push_back({"helix-spheres", {"3", "1", "1"}});
   for (const Pile& pile : piles) {
     SCOPED_TRACE(label(pile));
-    const BuildResult3 built = build(pile);
+    const BuildResult built = build(pile);
     ASSERT_TRUE(built.report.ok()) << built.report.summary();
     ASSERT_FALSE(built.inversion.has_value());
     const CellComplex<3>& complex = built.complex->complex;
@@ -83,7 +83,7 @@ TEST(PileSearch3, SearchOrdersEnumerateTheSameImmersions) {
   for (const Pile& pile : {Pile{"spheres-pile", {"3", "1", "4"}}, Pile{"spheres-pile", {"3", "2", "4"}},
                            Pile{"tori-pile", {"2", "1", "10"}}}) {
     SCOPED_TRACE(label(pile));
-    const BuildResult3 built = build(pile);
+    const BuildResult built = build(pile);
     ASSERT_TRUE(built.report.ok()) << built.report.summary();
     const CellComplex<3>& complex = built.complex->complex;
     SearchOptions all;
@@ -119,7 +119,7 @@ TEST(PileSearch3, IncrementalChoiceFollowsTheFullScan) {
   piles.push_back({"tori-pile", {"3", "1", "12"}});
   piles.push_back({"helix-spheres", {"3", "1", "1"}});
   for (const Pile& pile : piles) {
-    const BuildResult3 built = build(pile);
+    const BuildResult built = build(pile);
     ASSERT_TRUE(built.report.ok()) << built.report.summary();
     const CellComplex<3>& complex = built.complex->complex;
     for (const std::size_t max : {std::size_t{1}, std::size_t{0}}) {

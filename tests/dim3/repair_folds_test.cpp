@@ -56,7 +56,7 @@ TEST(RepairFolds, TheIndependentStarCheckSeesTheGeneratedFold) {
   EXPECT_EQ(first_folded_star(folded_bipyramid(0)), -1);
   EXPECT_EQ(first_folded_star(folded_bipyramid(50)), -1);
   EXPECT_NE(first_folded_star(folded_bipyramid(100)), -1);
-  EXPECT_FALSE(build_complex3(folded_bipyramid(100)).folds.ok());
+  EXPECT_FALSE(build_complex(folded_bipyramid(100)).folds.ok());
 }
 
 TEST(RepairFolds, MovesFoldVerticesWithinTheBudgetAndEmbedsEveryStar) {
@@ -97,20 +97,20 @@ TEST(RepairFolds, RefusesWhenTheBudgetIsTooSmallAndChangesNothing) {
 
 TEST(RepairFolds, TheBuildRepairsOnlyWhenAskedAndDescribesTheRepairedSurface) {
   const Surface in = folded_bipyramid(100);
-  const BuildResult3 refused = build_complex3(in);
+  const BuildResult refused = build_complex(in);
   EXPECT_FALSE(refused.folds.ok());
   EXPECT_FALSE(refused.repair);
   EXPECT_FALSE(refused.contacts) << "folds alone are no exact contacts";
-  BuildOptions3 options;
+  BuildOptions options;
   options.repair_folds = 3.0;
-  const BuildResult3 repaired = build_complex3(in, options);
+  const BuildResult repaired = build_complex(in, options);
   ASSERT_TRUE(repaired.repair && repaired.repair->ok);
   ASSERT_TRUE(repaired.complex);
   EXPECT_TRUE(repaired.folds.ok());
   EXPECT_EQ(repaired.complex->surface.vertices, repaired.repair->surface.vertices);
   EXPECT_EQ(repaired.complex->complex.cell_count(), 1u);
   options.repair_folds = 0.01;
-  const BuildResult3 too_far = build_complex3(in, options);
+  const BuildResult too_far = build_complex(in, options);
   EXPECT_FALSE(too_far.folds.ok());
   ASSERT_TRUE(too_far.repair);
   EXPECT_FALSE(too_far.repair->ok);
@@ -118,9 +118,9 @@ TEST(RepairFolds, TheBuildRepairsOnlyWhenAskedAndDescribesTheRepairedSurface) {
 }
 
 TEST(RepairFolds, GenericInputsAreNeverTouched) {
-  BuildOptions3 options;
+  BuildOptions options;
   options.repair_folds = 1.0;
-  const BuildResult3 r = build_complex3(two_spheres(6), options);
+  const BuildResult r = build_complex(two_spheres(6), options);
   EXPECT_FALSE(r.repair);
   ASSERT_TRUE(r.complex);
   EXPECT_EQ(r.complex->surface.vertices, two_spheres(6).vertices);

@@ -19,13 +19,13 @@ namespace imm::dim3 {
 namespace {
 
 struct Prepared {
-  Immersed3 im;
-  [[nodiscard]] const Complex3& complex() const { return *im.build.complex; }
+  Immersed im;
+  [[nodiscard]] const Complex& complex() const { return *im.build.complex; }
   [[nodiscard]] const Immersion& immersion() const { return im.search.immersions.front(); }
 };
 
 Prepared prepare(const Surface& surface) {
-  ImmerseOptions3 options;
+  ImmerseOptions options;
   options.build.exact_volumes = false;
   Prepared p{immerse_surface(surface, options)};
   EXPECT_TRUE(p.im.build.report.ok()) << p.im.build.report.summary();
@@ -34,14 +34,14 @@ Prepared prepare(const Surface& surface) {
   return p;
 }
 
-MeshResult3 mesh(const Prepared& p, MeshOptions3 options) {
-  MeshResult3 m = mesh_immersion3(p.complex(), p.immersion(), options, p.im.input_vertices, p.im.input_triangles);
+MeshResult mesh(const Prepared& p, MeshOptions options) {
+  MeshResult m = mesh_immersion(p.complex(), p.immersion(), options, p.im.input_vertices, p.im.input_triangles);
   EXPECT_TRUE(m.report.ok()) << m.report.summary();
   return m;
 }
 
 /// Everything a user receives, as text.
-std::string fingerprint(const MeshResult3& m) {
+std::string fingerprint(const MeshResult& m) {
   return format_medit_3d(m.mesh) + format_embedding(m.embedding);
 }
 
@@ -59,21 +59,21 @@ TEST_P(VirtualTetsEquivalence, IntervalsExactAndThreadsGiveTheSameMesh) {
   ASSERT_TRUE(g.ok()) << g.error;
   const Prepared p = prepare(g.surface);
   if (p.im.search.immersions.empty()) return;
-  MeshOptions3 fast;
+  MeshOptions fast;
   fast.resolution = c.resolution;
   fast.threads = 1;
-  const MeshResult3 reference = mesh(p, fast);
+  const MeshResult reference = mesh(p, fast);
   ASSERT_GT(reference.stats.output_tets, 0u);
   ASSERT_GT(reference.stats.cut_tets, 0u);
 
-  MeshOptions3 exact = fast;
+  MeshOptions exact = fast;
   exact.interval_filter = false;
-  const MeshResult3 exact_mesh = mesh(p, exact);
+  const MeshResult exact_mesh = mesh(p, exact);
   // Without the filter every tet that meets a cut triangle's box runs in Epeck.
   EXPECT_GT(exact_mesh.stats.exact_tets, reference.stats.exact_tets);
   EXPECT_EQ(fingerprint(exact_mesh), fingerprint(reference)) << c.name;
 
-  MeshOptions3 two = fast;
+  MeshOptions two = fast;
   two.threads = 2;
   EXPECT_EQ(fingerprint(mesh(p, two)), fingerprint(reference)) << c.name;
 }
@@ -101,10 +101,10 @@ TEST(VirtualTets, TeethInOneTetGetSeparateCopies) {
   constexpr int kTeeth = 3;
   const Surface comb_surface = comb(kTeeth);
   const Prepared p = prepare(comb_surface);
-  MeshOptions3 options;
+  MeshOptions options;
   options.resolution = 8;
   options.threads = 1;
-  const MeshResult3 m = mesh(p, options);
+  const MeshResult m = mesh(p, options);
   ASSERT_EQ(m.embedding.size(), comb_surface.vertex_count());
   // comb(): per z level, 2D points bottom(k) = k, base(k) = b + k, top(k) = 2 b + k for the
   // b = 2 t breakpoints; tooth i spans breakpoints 2 i (left) and 2 i + 1 (right); the z = 1
@@ -150,9 +150,9 @@ TEST(VirtualTets, BackgroundTouchingTheInputIsMeshedUnderAnExplicitTranslation) 
     std::ofstream out(path);
     out << format_veg(aligned_grid(-1.0, 0.5, 6));
   }
-  MeshOptions3 options;
+  MeshOptions options;
   options.background_path = path;
-  const MeshResult3 m = mesh(p, options);
+  const MeshResult m = mesh(p, options);
   ASSERT_TRUE(m.report.ok());
   EXPECT_GE(m.stats.attempts, 2);
   double shift = 0.0;

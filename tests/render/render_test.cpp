@@ -205,7 +205,7 @@ TEST(RenderPicture, PartsAppearInTheirColoursWhereTheCameraPutsThem) {
 TEST(RenderPicture, RedPixelsExactlyWhenTheInputIntersectsItself) {
   REQUIRE_POVRAY();
   const dim3::Surface crossing = dim3::two_spheres(8);
-  const dim3::BuildResult3 built = dim3::build_complex3(crossing);
+  const dim3::BuildResult built = dim3::build_complex(crossing);
   ASSERT_TRUE(built.complex) << built.report.summary();
   const std::vector<bool> flagged = intersecting_triangles(*built.complex);
   // Independent: a triangle with a corner well inside the other sphere and a corner outside it
@@ -244,7 +244,7 @@ TEST(RenderPicture, RedPixelsExactlyWhenTheInputIntersectsItself) {
   const Image red = render_to_image(surface_scene(crossing, built.complex.get()), dir / "two_spheres.png");
   EXPECT_GT(count_hue(red, hue_of(colors::kIntersecting)), 50u);
   const dim3::Surface single = dim3::sphere(8);
-  const dim3::BuildResult3 single_built = dim3::build_complex3(single);
+  const dim3::BuildResult single_built = dim3::build_complex(single);
   ASSERT_TRUE(single_built.complex);
   const std::vector<bool> none = intersecting_triangles(*single_built.complex);
   EXPECT_EQ(std::count(none.begin(), none.end(), true), 0);
