@@ -457,6 +457,24 @@ Json mesh3_json(const dim3::MeshResult& m, std::size_t k, const Immersion& immer
   return j;
 }
 
+/// A mesh that cannot be built (exit 2): the defects on stderr (at most 20 lines), the summary,
+/// and the --json failure report. `how`: "" or "conformingly".
+int mesh_failure(Session& s, const PreparedSurface& p, const ValidationReport& report,
+                 const std::optional<std::string>& json_path, const std::string& how) {
+  s.err() << "immerse: " << cannot_mesh_message(p.path, report, 20, how) << '\n';
+  s.set_counts("meshing failed (" + plural(report.total(), "defect") + ")");
+  if (json_path) {
+    Json j = Json::object();
+    j["input"] = input_json(p);
+    j["status"] = "invalid-input";
+    j["defects"] = defects_json(report, "triangles");
+    j["timings_ms"] = s.timings_json();
+    if (!s.write(*json_path, j.dump(2) + "\n", "report")) return kExitInternalError;
+  }
+  print_written(s);
+  return kExitInvalidInput;
+}
+
 /// Writes `mesh -o` and `--embedding` of immersion i (numbered files with --all; TetGen's .node
 /// also writes the .ele beside it, region attribute = graph node) and lists them in
 /// entry["outputs"]. @return false after a failed write (already reported).
@@ -597,19 +615,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
                                     im.input_triangles);
     });
     if (!m.report.ok()) {
-      s.err() << "immerse: cannot mesh '" << p.path << "' conformingly: " << plural(m.report.total(), "defect") << '\n'
-              << m.report.summary();
-      s.set_counts("meshing failed (" + plural(m.report.total(), "defect") + ")");
-      if (json_path) {
-        Json j = Json::object();
-        j["input"] = input_json(p);
-        j["status"] = "invalid-input";
-        j["defects"] = defects_json(m.report, "triangles");
-        j["timings_ms"] = s.timings_json();
-        if (!s.write(*json_path, j.dump(2) + "\n", "report")) return kExitInternalError;
-      }
-      print_written(s);
-      return kExitInvalidInput;
+      return mesh_failure(s, p, m.report, json_path, "conformingly");
     }
     total_tets += m.stats.output_tets;
     if (!m.stats.unused_vertices.empty()) {
@@ -637,18 +643,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
       return dim3::mesh_immersion(*p.complex, r.immersions[i], mesh_options, im.input_vertices, im.input_triangles);
     });
     if (!m.report.ok()) {
-      s.err() << "immerse: " << cannot_mesh_message(p.path, m.report, 20) << '\n';
-      s.set_counts("meshing failed (" + plural(m.report.total(), "defect") + ")");
-      if (json_path) {
-        Json j = Json::object();
-        j["input"] = input_json(p);
-        j["status"] = "invalid-input";
-        j["defects"] = defects_json(m.report, "triangles");
-        j["timings_ms"] = s.timings_json();
-        if (!s.write(*json_path, j.dump(2) + "\n", "report")) return kExitInternalError;
-      }
-      print_written(s);
-      return kExitInvalidInput;
+      return mesh_failure(s, p, m.report, json_path, "");
     }
     total_tets += m.stats.output_tets;
     if (m.stats.input_shift != Point3{0, 0, 0}) {

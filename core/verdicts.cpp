@@ -28,8 +28,9 @@ std::string invalid_input_message(const std::string& name, const ValidationRepor
   return with_defects("invalid input '" + name + "': ", report, max_lines);
 }
 
-std::string cannot_mesh_message(const std::string& name, const ValidationReport& report, std::size_t max_lines) {
-  return with_defects("cannot mesh '" + name + "': ", report, max_lines);
+std::string cannot_mesh_message(const std::string& name, const ValidationReport& report, std::size_t max_lines,
+                                const std::string& how) {
+  return with_defects("cannot mesh '" + name + "'" + (how.empty() ? "" : " " + how) + ": ", report, max_lines);
 }
 
 std::string not_immersible_message(const std::string& name, const std::string& reason) {

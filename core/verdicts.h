@@ -18,9 +18,11 @@ std::string plural(std::size_t n, const std::string& word, const std::string& wo
 /// "... and N more"). Exit code 2.
 std::string invalid_input_message(const std::string& name, const ValidationReport& report, std::size_t max_lines);
 
-/// "cannot mesh 'NAME': N defects" and the defects (a background that does not cover the input,
-/// a non-generic contact with the background). Exit code 2.
-std::string cannot_mesh_message(const std::string& name, const ValidationReport& report, std::size_t max_lines);
+/// "cannot mesh 'NAME'[ HOW]: N defects" and the defects (a background that does not cover the
+/// input, a non-generic contact with the background, a cut mesh that doubles cannot hold).
+/// Exit code 2.
+std::string cannot_mesh_message(const std::string& name, const ValidationReport& report, std::size_t max_lines,
+                                const std::string& how = "");
 
 /// "'NAME' is not immersible: REASON" (an inverted region). Exit code 3.
 std::string not_immersible_message(const std::string& name, const std::string& reason);
