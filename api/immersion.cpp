@@ -4,6 +4,7 @@
 #include "immersion/immersion.h"
 
 #include <cctype>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -15,6 +16,7 @@
 #include "dim2/curves.h"
 #include "dim2/mesh2.h"
 #include "dim3/complex3.h"
+#include "dim3/conforming_mesh3.h"
 #include "dim3/mesh3.h"
 #include "dim3/self_connecting.h"
 #include "dim3/surface.h"
@@ -45,6 +47,7 @@ struct ImmersionsData<2> {
 template <>
 struct ImmersionsData<3> {
   std::string name;
+  imm::dim3::Surface input;  ///< the user's surface (the conforming mesher's default edge length)
   imm::dim3::Immersed immersed;
 };
 }  // namespace detail
@@ -325,7 +328,8 @@ Immersions<3> find_immersions(const Surface& surface, const SearchOptions& optio
     if (!options.helper_boxes) o.max_boxes = 0;
     auto data = std::make_shared<detail::ImmersionsData<3>>();
     data->name = surface.name;
-    data->immersed = imm::dim3::immerse_surface(to_surface(surface), o);
+    data->input = to_surface(surface);
+    data->immersed = imm::dim3::immerse_surface(data->input, o);
     const imm::dim3::Immersed& im = data->immersed;
     Immersions<3> out;
     if (im.repair) out.notes.push_back(imm::dim3::fold_repair_note(*im.repair, options.repair_folds.value_or(0.0)));
@@ -394,6 +398,42 @@ SimplexMesh<2> mesh_immersion(const Immersions<2>& found, const MeshOptions& opt
   });
 }
 
+namespace {
+
+/// The 3D conforming mesh (TetGen), with the program's option checks and messages.
+SimplexMesh<3> mesh_conforming3(const Immersions<3>& found, const MeshOptions& options, int resolution,
+                                const std::string& name) {
+  if (options.background || options.method == MeshMethod::Csg)
+    throw Error(ErrorKind::InvalidInput, "a conforming mesh takes no background and no CSG method");
+  if (!(options.radius_edge >= 1.0 && std::isfinite(options.radius_edge)))
+    throw Error(ErrorKind::InvalidInput, "radius_edge expects a number >= 1");
+  if (!(options.min_dihedral >= 0.0 && options.min_dihedral <= 30.0))
+    throw Error(ErrorKind::InvalidInput, "min_dihedral expects degrees in [0, 30]");
+  const imm::dim3::Immersed& im = found.data_->immersed;
+  imm::dim3::ConformingOptions c;
+  c.edge_length = options.edge_length ? *options.edge_length
+                                      : imm::dim3::conforming_edge_length(found.data_->input, resolution);
+  if (!(c.edge_length > 0 && std::isfinite(c.edge_length)))
+    throw Error(ErrorKind::InvalidInput, "edge_length must be a positive number (the input's box is flat or not finite)");
+  c.radius_edge = options.radius_edge;
+  c.min_dihedral = options.min_dihedral;
+  imm::dim3::ConformingResult m = imm::dim3::mesh_conforming(*im.build.complex, im.search.immersions[options.immersion],
+                                                             c, im.input_vertices, im.input_triangles);
+  if (!m.report.ok())
+    throw Error(ErrorKind::InvalidInput, imm::cannot_mesh_message(name, m.report, 20, "conformingly"));
+  SimplexMesh<3> out;
+  out.vertices = std::move(m.mesh.vertices);
+  out.elements.assign(m.mesh.tets.begin(), m.mesh.tets.end());
+  out.node = std::move(m.mesh.reference);
+  for (const auto& e : m.embedding) {
+    out.embedding_element.push_back(e.element);
+    out.embedding_weights.push_back(e.weights);
+  }
+  return out;
+}
+
+}  // namespace
+
 SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& options) {
   return guarded([&] {
     const std::string name = found.data_ ? found.data_->name : std::string();
@@ -404,6 +444,7 @@ SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& opt
     o.method = method_of(options.method);
     o.threads = options.threads;
     const imm::dim3::Immersed& im = found.data_->immersed;
+    if (options.conforming) return mesh_conforming3(found, options, o.resolution, name);
     imm::dim3::MeshResult m = imm::dim3::mesh_immersion(
         *im.build.complex, im.search.immersions[options.immersion], o, im.input_vertices, im.input_triangles);
     if (!m.report.ok()) {

@@ -110,17 +110,6 @@ inline std::string parse_conforming3(const CommandLine& cl, dim3::ConformingOpti
   return {};
 }
 
-/// The default target edge length of a conforming mesh: the side of the background grid's cubes
-/// at `resolution` (longest side of the input's box / resolution). 0 for a flat or empty box.
-inline double conforming_edge_length(const dim3::Surface& surface, int resolution) {
-  if (surface.vertices.empty()) return 0.0;
-  const dim3::Box3 box = dim3::bounding_box(surface);
-  double longest = 0.0;
-  for (int d = 0; d < 3; ++d) longest = std::max(longest, box.hi[d] - box.lo[d]);
-  const double h = longest / resolution;
-  return std::isfinite(h) && h > 0 ? h : 0.0;
-}
-
 // ---- one run: timings, counts, written files -------------------------------------------------
 
 class Session {

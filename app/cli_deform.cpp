@@ -394,7 +394,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     std::vector<int> reference;
     if (conforming) {
       if (conforming_options.edge_length == 0.0)
-        conforming_options.edge_length = conforming_edge_length(read.surface, options.resolution);
+        conforming_options.edge_length = dim3::conforming_edge_length(read.surface, options.resolution);
       if (!(conforming_options.edge_length > 0))
         return usage_error(s.env(), command, "--conforming: the input's box is flat; pass --edge-length");
       const dim3::ConformingResult m = s.timed("mesh", [&] {

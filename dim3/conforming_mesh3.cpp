@@ -705,4 +705,13 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
   return result;
 }
 
+double conforming_edge_length(const Surface& surface, int resolution) {
+  if (surface.vertices.empty() || resolution <= 0) return 0.0;
+  const Box3 box = bounding_box(surface);
+  double longest = 0.0;
+  for (int d = 0; d < 3; ++d) longest = std::max(longest, box.hi[d] - box.lo[d]);
+  const double h = longest / resolution;
+  return std::isfinite(h) && h > 0 ? h : 0.0;
+}
+
 }  // namespace imm::dim3

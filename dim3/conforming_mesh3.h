@@ -98,6 +98,10 @@ ValidationReport check_rounded_cut_mesh(const std::vector<Point3>& points,
                                         const std::vector<std::array<std::int32_t, 3>>& triangles,
                                         const std::vector<std::uint32_t>& source_triangle);
 
+/// The default target edge length of a conforming mesh: the side of the background grid's cubes
+/// at `resolution` (longest side of the surface's box / resolution). 0 for a flat or empty box.
+double conforming_edge_length(const Surface& surface, int resolution);
+
 /// Meshes one immersion of the complex conformingly. `input_vertices` / `input_triangles` count
 /// the user's leading vertices and triangles (helper boxes come after them): the solids of graph
 /// components owning only helper patches are dropped as in mesh_immersion.

@@ -204,7 +204,14 @@ struct MeshOptions {
   std::optional<int> resolution;
   /// A background mesh file instead (2D: Medit .mesh; 3D: .veg, .mesh, .node/.ele, .msh).
   std::optional<std::string> background;
-  bool conforming = false;           ///< 2D: elements never cut by the input
+  /// Elements never cut by the input: 2D constrained triangles; 3D TetGen tets whose boundary
+  /// faces are the cut triangles (`mesh --conforming`). Excludes `background` and Csg.
+  bool conforming = false;
+  /// 3D conforming: target edge length (default: longest box side / resolution), radius-edge
+  /// bound (>= 1), minimum dihedral angle in degrees aimed for (0: none), as the program's options.
+  std::optional<double> edge_length;
+  double radius_edge = 2.0;
+  double min_dihedral = 0.0;
   MeshMethod method = MeshMethod::Clip;
   unsigned threads = 0;              ///< 3D: threads for the virtual tets (0 = all cores)
 };

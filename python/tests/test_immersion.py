@@ -236,6 +236,22 @@ class Arrays3D(Fixture):
         elements = [int(r.split()[0]) for r in rows if r.strip()]
         self.assertEqual(elements, mesh.embedding_element.tolist())
 
+    def test_conforming_mesh_is_the_programs_byte_for_byte(self):
+        path = self.generate("two-spheres", "8")
+        found = immersion.find_immersions(immersion.read_surface(path))
+        mesh = immersion.mesh_immersion(found, conforming=True, resolution=6)
+        mesh.write(self.path("pyc.mesh"))
+        cli = run_immerse("mesh", path, "--conforming", "--resolution", "6", "-o", self.path("clic.mesh"))
+        self.assertEqual(cli.returncode, 0, cli.stderr)
+        with open(self.path("pyc.mesh"), "rb") as a, open(self.path("clic.mesh"), "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        # Every input vertex is a mesh vertex: weight 1 at one corner.
+        self.assertTrue(np.allclose(mesh.embedding_weights.max(axis=1), 1.0))
+        with self.assertRaises(immersion.InvalidInput):
+            immersion.mesh_immersion(found, conforming=True, radius_edge=0.5)
+        with self.assertRaises(immersion.InvalidInput):
+            immersion.mesh_immersion(found, conforming=True, method="csg")
+
     def test_immersion_index_and_method_are_checked(self):
         found = immersion.find_immersions(immersion.read_surface(self.generate("two-spheres", "8")))
         with self.assertRaises(immersion.InvalidInput) as e:
