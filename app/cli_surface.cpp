@@ -457,6 +457,15 @@ Json mesh3_json(const dim3::MeshResult& m, std::size_t k, const Immersion& immer
   return j;
 }
 
+/// The note for input vertices no triangle uses (-1 in the .emb), from either 3D mesher.
+void print_unused_vertices_note(Session& s, const PreparedSurface& p, const std::vector<std::size_t>& unused) {
+  if (unused.empty()) return;
+  const std::size_t v = unused.front();
+  s.err() << "immerse: note: " << plural(unused.size(), "input vertex", "input vertices") << " (vertex " << v << " "
+          << dim3::format_point(p.surface.vertices[v]) << (unused.size() > 1 ? ", ..." : "")
+          << ") used by no triangle: left out of the embedding (-1 in the .emb)\n";
+}
+
 /// A mesh that cannot be built (exit 2): the defects on stderr (at most 20 lines), the summary,
 /// and the --json failure report. `how`: "" or "conformingly".
 int mesh_failure(Session& s, const PreparedSurface& p, const ValidationReport& report,
@@ -618,13 +627,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
       return mesh_failure(s, p, m.report, json_path, "conformingly");
     }
     total_tets += m.stats.output_tets;
-    if (!m.stats.unused_vertices.empty()) {
-      const std::size_t v = m.stats.unused_vertices.front();
-      s.err() << "immerse: note: " << plural(m.stats.unused_vertices.size(), "input vertex", "input vertices")
-              << " (vertex " << v << " " << dim3::format_point(p.surface.vertices[v])
-              << (m.stats.unused_vertices.size() > 1 ? ", ..." : "")
-              << ") used by no triangle: left out of the embedding (-1 in the .emb)\n";
-    }
+    print_unused_vertices_note(s, p, m.stats.unused_vertices);
     s.out() << describe_input(p) << ": immersion " << i << " of " << r.immersions.size() << (r.complete ? "" : "+")
             << " meshed conformingly: " << plural(m.stats.output_tets, "tet") << ", "
             << plural(m.stats.output_vertices, "vertex", "vertices") << " (TetGen " << plural(m.stats.tetgen_tets, "tet")
@@ -655,13 +658,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
       s.err() << "immerse: note: the grid touched the input non-generically; it was shifted "
               << plural(static_cast<std::size_t>(m.stats.attempts - 1), "time") << '\n';
     }
-    if (!m.stats.unused_vertices.empty()) {
-      const std::size_t v = m.stats.unused_vertices.front();
-      s.err() << "immerse: note: " << plural(m.stats.unused_vertices.size(), "input vertex", "input vertices")
-              << " (vertex " << v << " " << dim3::format_point(p.surface.vertices[v])
-              << (m.stats.unused_vertices.size() > 1 ? ", ..." : "")
-              << ") used by no triangle: left out of the embedding (-1 in the .emb)\n";
-    }
+    print_unused_vertices_note(s, p, m.stats.unused_vertices);
     warn_embedding_error(s, m.stats.embedding_error);
     s.out() << describe_input(p) << ": immersion " << i << " of " << r.immersions.size() << (r.complete ? "" : "+")
             << " meshed: " << plural(m.stats.output_tets, "tet") << ", " << plural(m.stats.output_vertices, "vertex", "vertices")

@@ -595,32 +595,12 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
   const UnglueInput<3>& input = expansion.input();
   const UnglueResult<3> unglued = unglue<3>(input);
   const std::vector<char> helper_node = detail::helper_nodes(complex, immersion, input_triangles);
-  std::vector<std::uint32_t> copy_index(unglued.copies.size(), kNone);
-  std::vector<std::int32_t> vertex_index(unglued.vertex_source.size(), -1);
   TetMesh& mesh = result.mesh;
-  std::vector<std::int32_t> vertex_source;  // per output vertex: its TetGen point
-  stats.copies_per_cell.assign(cc.cell_count(), 0);
-  for (std::size_t c = 0; c < unglued.copies.size(); ++c) {
-    if (helper_node[unglued.copy_node[c].index()]) {
-      ++stats.helper_tets;
-      continue;
-    }
-    copy_index[c] = static_cast<std::uint32_t>(mesh.tets.size());
-    Tet tet{};
-    for (int k = 0; k < 4; ++k) {
-      std::int32_t& v = vertex_index[static_cast<std::size_t>(unglued.copies[c][k])];
-      if (v < 0) {
-        v = static_cast<std::int32_t>(mesh.vertices.size());
-        vertex_source.push_back(unglued.vertex_source[unglued.copies[c][k]]);
-        mesh.vertices.push_back(vertices[static_cast<std::size_t>(vertex_source.back())]);
-      }
-      tet[k] = v;
-    }
-    mesh.tets.push_back(tet);
-    mesh.reference.push_back(unglued.copy_node[c].value());
-    result.source_tet.push_back(static_cast<int>(unglued.copy_element[c]));
-    ++stats.copies_per_cell[immersion.layout.cell(unglued.copy_node[c]).index()];
-  }
+  detail::EmittedCopies emitted = detail::emit_copies(unglued, helper_node, immersion.layout, cc.cell_count(), vertices,
+                                                      mesh, stats.helper_tets, stats.copies_per_cell);
+  const std::vector<std::uint32_t>& copy_index = emitted.copy_index;
+  const std::vector<std::int32_t>& vertex_source = emitted.vertex_source;  // per output vertex: its TetGen point
+  result.source_tet = std::move(emitted.source_element);
   result.tetrahedralization.vertices = vertices;
   result.tetrahedralization.tets.reserve(tets.size());
   result.tetrahedralization.reference.reserve(tets.size());

@@ -61,6 +61,37 @@ std::vector<char> helper_nodes(const Complex& complex, const Immersion& immersio
   return helper_node;
 }
 
+EmittedCopies emit_copies(const UnglueResult<3>& unglued, const std::vector<char>& helper_node,
+                          const NodeLayout& layout, std::size_t cell_count, const std::vector<Point3>& vertices,
+                          TetMesh& mesh, std::size_t& helper_tets, std::vector<std::size_t>& copies_per_cell) {
+  EmittedCopies out;
+  out.copy_index.assign(unglued.copies.size(), kNone);
+  std::vector<std::int32_t> vertex_index(unglued.vertex_source.size(), -1);
+  copies_per_cell.assign(cell_count, 0);
+  for (std::size_t c = 0; c < unglued.copies.size(); ++c) {
+    if (helper_node[unglued.copy_node[c].index()]) {
+      ++helper_tets;
+      continue;
+    }
+    out.copy_index[c] = static_cast<std::uint32_t>(mesh.tets.size());
+    Tet tet{};
+    for (int k = 0; k < 4; ++k) {
+      std::int32_t& v = vertex_index[static_cast<std::size_t>(unglued.copies[c][k])];
+      if (v < 0) {
+        v = static_cast<std::int32_t>(mesh.vertices.size());
+        out.vertex_source.push_back(static_cast<std::int32_t>(unglued.vertex_source[unglued.copies[c][k]]));
+        mesh.vertices.push_back(vertices[static_cast<std::size_t>(out.vertex_source.back())]);
+      }
+      tet[k] = v;
+    }
+    mesh.tets.push_back(tet);
+    mesh.reference.push_back(unglued.copy_node[c].value());
+    out.source_element.push_back(static_cast<int>(unglued.copy_element[c]));
+    ++copies_per_cell[layout.cell(unglued.copy_node[c]).index()];
+  }
+  return out;
+}
+
 void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
               const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
               bool record_contents, MeshResult& result) {
@@ -78,30 +109,11 @@ void assemble(const Complex& complex, const Immersion& immersion, const TetMesh&
   // 4. Duplicate and connect.
   const UnglueResult<3> unglued = unglue<3>(input);
   const std::vector<char> helper_node = helper_nodes(complex, immersion, input_triangles);
-  std::vector<std::uint32_t> copy_index(unglued.copies.size(), kNone);
-  std::vector<std::int32_t> vertex_index(unglued.vertex_source.size(), -1);
   TetMesh& mesh = result.mesh;
-  result.stats.copies_per_cell.assign(cc.cell_count(), 0);
-  for (std::size_t c = 0; c < unglued.copies.size(); ++c) {
-    if (helper_node[unglued.copy_node[c].index()]) {
-      ++result.stats.helper_tets;
-      continue;
-    }
-    copy_index[c] = static_cast<std::uint32_t>(mesh.tets.size());
-    Tet tet{};
-    for (int k = 0; k < 4; ++k) {
-      std::int32_t& v = vertex_index[static_cast<std::size_t>(unglued.copies[c][k])];
-      if (v < 0) {
-        v = static_cast<std::int32_t>(mesh.vertices.size());
-        mesh.vertices.push_back(background.vertices[static_cast<std::size_t>(unglued.vertex_source[unglued.copies[c][k]])]);
-      }
-      tet[k] = v;
-    }
-    mesh.tets.push_back(tet);
-    mesh.reference.push_back(unglued.copy_node[c].value());
-    result.background_tet.push_back(static_cast<int>(unglued.copy_element[c]));
-    ++result.stats.copies_per_cell[layout.cell(unglued.copy_node[c]).index()];
-  }
+  EmittedCopies emitted = emit_copies(unglued, helper_node, layout, cc.cell_count(), background.vertices, mesh,
+                                      result.stats.helper_tets, result.stats.copies_per_cell);
+  const std::vector<std::uint32_t>& copy_index = emitted.copy_index;
+  result.background_tet = std::move(emitted.source_element);
   result.stats.output_tets = mesh.tets.size();
   result.stats.output_vertices = mesh.vertices.size();
 

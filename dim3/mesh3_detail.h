@@ -14,7 +14,9 @@
 
 #include "core/diagnostics.h"
 #include "core/ids.h"
+#include "core/immersion_graph.h"
 #include "core/local_regions.h"
+#include "core/unglue.h"
 #include "dim3/complex3.h"
 #include "dim3/mesh3.h"
 #include "dim3/tet_mesh.h"
@@ -102,6 +104,21 @@ LocalRegions compute_local_regions_csg(const Complex& complex, const TetMesh& ba
 /// output (paper §6.2, §8). All zeros when there are no helper triangles. Shared by the
 /// background mesher (assemble) and the conforming mesher (dim3/conforming_mesh3.cpp).
 std::vector<char> helper_nodes(const Complex& complex, const Immersion& immersion, std::size_t input_triangles);
+
+/// The kept copies of an unglued mesh as output tets, as both 3D meshers emit them.
+struct EmittedCopies {
+  std::vector<std::uint32_t> copy_index;   ///< per copy: its output tet, or max() (helper solid)
+  std::vector<std::int32_t> vertex_source;  ///< per output vertex: its vertex in `vertices`
+  std::vector<int> source_element;          ///< per output tet: the element it copies
+};
+
+/// Appends to `mesh` one tet per copy of `unglued` (reference = graph node), with vertices taken
+/// from `vertices` (the element mesh's) in order of first use; copies of helper nodes
+/// (helper_nodes) are dropped and counted in `helper_tets`; `copies_per_cell` (by CellId) counts
+/// the output tets. Shared by assemble and the conforming mesher.
+EmittedCopies emit_copies(const UnglueResult<3>& unglued, const std::vector<char>& helper_node,
+                          const NodeLayout& layout, std::size_t cell_count, const std::vector<Point3>& vertices,
+                          TetMesh& mesh, std::size_t& helper_tets, std::vector<std::size_t>& copies_per_cell);
 
 /// The assembly stage of meshing (dim3/mesh3.cpp): one atom per graph node per local region,
 /// fused across the immersion graph's edges, duplicated and connected by unglue<3>, helper-box
