@@ -268,6 +268,16 @@ std::string format_complex_svg(const Complex2& c2, const SvgOptions& options) {
     svg.add("<circle cx=\"" + num(frame.x(p)) + "\" cy=\"" + num(frame.y(p)) +
             "\" r=\"3.5\" fill=\"#c00\"/>");
   }
+  for (const ArcMark& mark : options.arc_marks) {
+    const Point& p = c2.arc_point[mark.arc];
+    constexpr double kMarkRadius = 11.0;
+    const std::string style = "\" fill=\"none\" stroke=\"" + mark.colour + "\" stroke-width=\"2.5\"/>";
+    if (mark.shape == ArcMark::Shape::Circle)
+      svg.add("<circle cx=\"" + num(frame.x(p)) + "\" cy=\"" + num(frame.y(p)) + "\" r=\"" + num(kMarkRadius) + style);
+    else
+      svg.add("<rect x=\"" + num(frame.x(p) - kMarkRadius) + "\" y=\"" + num(frame.y(p) - kMarkRadius) +
+              "\" width=\"" + num(2 * kMarkRadius) + "\" height=\"" + num(2 * kMarkRadius) + style);
+  }
   if (options.labels) {
     for (PatchId p : ids<PatchId>(complex.patch_count())) {
       const Point at = point_along(c2.patch_polyline[p], 0.5);

@@ -14,6 +14,15 @@
 
 namespace imm::dim2 {
 
+/// A hollow marker drawn around an arc (the paper's Fig. 15 circles and squares the arcs where
+/// Rule 6 takes one form or another).
+struct ArcMark {
+  enum class Shape { Circle, Square };
+  ArcId arc;
+  Shape shape = Shape::Circle;
+  std::string colour = "#d00";
+};
+
 struct SvgOptions {
   /// Width of the drawing area in SVG user units (the height follows the aspect ratio).
   double width = 800.0;
@@ -21,6 +30,8 @@ struct SvgOptions {
   bool labels = true;
   /// Title drawn above the picture (escaped); empty for none.
   std::string title;
+  /// Markers around arcs (format_complex_svg only).
+  std::vector<ArcMark> arc_marks;
 };
 
 /// The raw input: every curve as a closed polyline with direction arrows and its first vertex
