@@ -538,6 +538,11 @@ Json conforming3_json(const dim3::ConformingResult& m, std::size_t k, const Imme
   q["sliver_bound_deg"] = m.stats.sliver_bound;
   q["slivers"] = m.stats.slivers;
   q["slivers_at_surface"] = m.stats.slivers_at_surface;
+  q["slivers_in_narrow_wedge"] = m.stats.slivers_in_narrow_wedge;
+  q["slivers_on_cap"] = m.stats.slivers_on_cap;
+  q["slivers_on_needle"] = m.stats.slivers_on_needle;
+  q["min_cell_wedge_deg"] = m.stats.min_cell_wedge;
+  q["narrow_wedge_edges"] = m.stats.narrow_wedge_edges;
   Json& phases = (j["mesh_phases_ms"] = Json::object());
   phases["exact_checks"] = m.stats.seconds_checks * 1e3;
   phases["tetgen"] = m.stats.seconds_tetgen * 1e3;
@@ -634,7 +639,11 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
             << " on " << plural(m.stats.plc_triangles, "cut triangle")
             << (m.stats.helper_tets > 0 ? ", " + std::to_string(m.stats.helper_tets) + " helper-box tets dropped" : "")
             << "; dihedral angles min " << m.stats.min_dihedral << " median " << m.stats.median_dihedral
-            << " deg, radius-edge max " << m.stats.max_radius_edge << ")\n";
+            << " deg, radius-edge max " << m.stats.max_radius_edge << "; "
+            << plural(m.stats.slivers, "sliver") << " below " << m.stats.sliver_bound << " deg: "
+            << m.stats.slivers_in_narrow_wedge << " in cell wedges narrower than that, " << m.stats.slivers_on_cap
+            << " on caps, " << m.stats.slivers_on_needle << " on needles; narrowest cell wedge "
+            << m.stats.min_cell_wedge << " deg)\n";
     Json entry = conforming3_json(m, i, r.immersions[i]);
     if (!write_tet_outputs(s, cl, all, i, m.mesh, m.embedding, "the conforming tet mesh (reference = graph node)",
                            "the embedding of the input vertices (weight 1 each)", entry))

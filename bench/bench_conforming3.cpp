@@ -57,6 +57,8 @@ void run_conforming(benchmark::State& state, const dim3::Immersed& im) {
   state.counters["tetgen_tets"] = static_cast<double>(stats.tetgen_tets);
   state.counters["output_tets"] = static_cast<double>(stats.output_tets);
   state.counters["slivers_5deg"] = static_cast<double>(stats.slivers);
+  state.counters["slivers_on_needle"] = static_cast<double>(stats.slivers_on_needle);
+  state.counters["min_cell_wedge_deg"] = stats.min_cell_wedge;
   state.counters["s_checks"] = stats.seconds_checks;
   state.counters["s_tetgen"] = stats.seconds_tetgen;
   state.counters["s_assembly"] = stats.seconds_assembly;

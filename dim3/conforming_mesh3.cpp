@@ -389,6 +389,88 @@ double median(std::vector<double>& values) {
   return *mid;
 }
 
+using EdgeKey = std::uint64_t;
+EdgeKey edge_key(std::int32_t a, std::int32_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+using Vec = std::array<double, 3>;
+Vec sub(const P3& a, const P3& b) { return {a.x() - b.x(), a.y() - b.y(), a.z() - b.z()}; }
+Vec cross(const Vec& a, const Vec& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/// Per edge of the cut mesh (PLC point ids): the smallest angle in degrees of a wedge around it
+/// whose region is a cell with output tets (`kept_cell`, by CellId); edges bounding no such wedge
+/// are left out. The cut triangles at the edge are sorted by the angle of their third corner
+/// around it; the wedge from one to the next (counterclockwise about the edge) lies on the side of
+/// the first that the rotation enters (ConformingStats::min_cell_wedge). Doubles: report only.
+std::unordered_map<EdgeKey, double> cell_wedges(const Plc& plc, const Complex& complex, const std::vector<char>& kept_cell) {
+  const CellComplex<3>& cc = complex.complex;
+  std::unordered_map<EdgeKey, std::vector<std::uint32_t>> at_edge;
+  at_edge.reserve(plc.facets.size() * 2);
+  for (std::uint32_t x = 0; x < plc.facets.size(); ++x)
+    for (int k = 0; k < 3; ++k) at_edge[edge_key(plc.facets[x][k], plc.facets[x][(k + 1) % 3])].push_back(x);
+  std::unordered_map<EdgeKey, double> wedges;
+  wedges.reserve(at_edge.size());
+  std::vector<std::pair<double, std::uint32_t>> around;
+  for (const auto& [key, xs] : at_edge) {
+    if (xs.size() < 2) continue;
+    const auto a = static_cast<std::int32_t>(key >> 32), b = static_cast<std::int32_t>(key & 0xffffffffu);
+    const P3& A = plc.points[static_cast<std::size_t>(a)];
+    Vec axis = sub(plc.points[static_cast<std::size_t>(b)], A);
+    const double length = std::sqrt(dot(axis, axis));
+    for (double& c : axis) c /= length;
+    // Per cut triangle: its third corner's direction off the edge.
+    const auto off_edge = [&](std::uint32_t x) {
+      std::int32_t c = -1;
+      for (std::int32_t v : plc.facets[x])
+        if (v != a && v != b) c = v;
+      Vec w = sub(plc.points[static_cast<std::size_t>(c)], A);
+      const double along = dot(w, axis);
+      for (int d = 0; d < 3; ++d) w[d] -= along * axis[d];
+      return w;
+    };
+    const Vec u0 = off_edge(xs[0]);
+    around.clear();
+    for (std::uint32_t x : xs) {
+      const Vec w = off_edge(x);
+      around.emplace_back(std::atan2(dot(cross(u0, w), axis), dot(u0, w)), x);
+    }
+    std::sort(around.begin(), around.end());
+    double smallest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < around.size(); ++i) {
+      const auto [phi, x] = around[i];
+      const double next = i + 1 < around.size() ? around[i + 1].first : around[0].first + 2.0 * M_PI;
+      const auto& f = plc.facets[x];
+      const Vec normal = cross(sub(plc.points[static_cast<std::size_t>(f[1])], plc.points[static_cast<std::size_t>(f[0])]),
+                               sub(plc.points[static_cast<std::size_t>(f[2])], plc.points[static_cast<std::size_t>(f[0])]));
+      const PatchSides& sides = cc.sides(complex.cut_triangle_patch[x]);
+      const RegionId region = dot(normal, cross(axis, off_edge(x))) > 0 ? sides.positive : sides.negative;
+      const CellId cell = cc.cell_of(region);
+      if (!cell.is_valid() || !kept_cell[cell.index()]) continue;
+      smallest = std::min(smallest, (next - phi) * 180.0 / M_PI);
+    }
+    if (std::isfinite(smallest)) wedges.emplace(key, smallest);
+  }
+  return wedges;
+}
+
+/// The angles (degrees) of a triangle: the smallest and the largest.
+std::pair<double, double> triangle_angle_range(const P3& p0, const P3& p1, const P3& p2) {
+  const std::array<const P3*, 3> p{&p0, &p1, &p2};
+  double lo = 180.0, hi = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const Vec u = sub(*p[(i + 1) % 3], *p[i]), v = sub(*p[(i + 2) % 3], *p[i]);
+    const double angle = std::acos(std::clamp(dot(u, v) / std::sqrt(dot(u, u) * dot(v, v)), -1.0, 1.0)) * 180.0 / M_PI;
+    lo = std::min(lo, angle);
+    hi = std::max(hi, angle);
+  }
+  return {lo, hi};
+}
+
 }  // namespace
 
 ValidationReport check_rounded_cut_mesh(const std::vector<Point3>& points,
@@ -650,13 +732,64 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
   }
   stats.embedding_error = worst;
 
-  // 6. Quality (report only).
+  // 6. Quality (report only): angles, ratios, the cell wedges that bound every mesh's minimum
+  // dihedral angle, and why each sliver is there.
   std::vector<double> dihedral, ratio;
   dihedral.reserve(mesh.tets.size() * 6);
   ratio.reserve(mesh.tets.size());
   stats.min_dihedral = 180.0;
   stats.sliver_bound = options.min_dihedral > 0 ? options.min_dihedral : 5.0;
-  for (const Tet& t : mesh.tets) {
+  std::vector<char> kept_cell(cc.cell_count(), 0);
+  for (std::size_t c = 0; c < stats.copies_per_cell.size() && c < kept_cell.size(); ++c)
+    kept_cell[c] = stats.copies_per_cell[c] > 0;
+  const std::unordered_map<EdgeKey, double> wedge = cell_wedges(plc, complex, kept_cell);
+  for (const auto& [key, angle] : wedge) {
+    stats.min_cell_wedge = std::min(stats.min_cell_wedge, angle);
+    if (angle < stats.sliver_bound) ++stats.narrow_wedge_edges;
+  }
+  // The cause of a sliver of TetGen's mesh (ConformingStats::slivers_in_narrow_wedge...): 1 narrow
+  // wedge, 2 cap, 3 needle, 4 other; computed once per TetGen tet (its copies share it).
+  std::vector<std::int8_t> cause(tets.size(), 0);
+  const auto sliver_cause = [&](std::uint32_t t) {
+    if (cause[t] != 0) return cause[t];
+    const auto& tet = tets[t];
+    std::array<Point3, 4> p{};
+    for (int k = 0; k < 4; ++k) p[k] = vertices[static_cast<std::size_t>(tet[k])];
+    std::array<double, 6> angles{};
+    double re = 0.0;
+    tet_quality(p, angles, re);
+    // Angle e is at the edge shared by the faces opposite corners i < j (tet_quality's order).
+    int e = 0;
+    std::int8_t found = 4;
+    bool narrow = false;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j, ++e) {
+        if (angles[e] >= stats.sliver_bound) continue;
+        std::array<std::int32_t, 2> edge{};
+        int m = 0;
+        for (int k = 0; k < 4; ++k)
+          if (k != i && k != j) edge[m++] = tet[k];
+        const auto w = wedge.find(edge_key(edge[0], edge[1]));
+        narrow = narrow || (w != wedge.end() && w->second < stats.sliver_bound);
+      }
+    if (narrow) {
+      found = 1;
+    } else {
+      for (int k = 0; k < 4; ++k) {
+        const auto x = facet_of.find(key_of(tet[(k + 1) % 4], tet[(k + 2) % 4], tet[(k + 3) % 4]));
+        if (x == facet_of.end()) continue;
+        const auto& f = plc.facets[x->second];
+        const auto [lo, hi] = triangle_angle_range(plc.points[static_cast<std::size_t>(f[0])],
+                                                   plc.points[static_cast<std::size_t>(f[1])],
+                                                   plc.points[static_cast<std::size_t>(f[2])]);
+        if (hi > 180.0 - stats.sliver_bound) found = 2;
+        if (lo < stats.sliver_bound && found != 2) found = 3;
+      }
+    }
+    return cause[t] = found;
+  };
+  for (std::size_t o = 0; o < mesh.tets.size(); ++o) {
+    const Tet& t = mesh.tets[o];
     std::array<Point3, 4> p{};
     for (int k = 0; k < 4; ++k) p[k] = mesh.vertices[static_cast<std::size_t>(t[k])];
     std::array<double, 6> angles{};
@@ -673,6 +806,12 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
       for (int k = 0; k < 4; ++k)
         on_surface += static_cast<std::size_t>(vertex_source[static_cast<std::size_t>(t[k])]) < plc.points.size();
       if (on_surface >= 3) ++stats.slivers_at_surface;
+      switch (sliver_cause(static_cast<std::uint32_t>(result.source_tet[o]))) {
+        case 1: ++stats.slivers_in_narrow_wedge; break;
+        case 2: ++stats.slivers_on_cap; break;
+        case 3: ++stats.slivers_on_needle; break;
+        default: break;
+      }
     }
     stats.max_radius_edge = std::max(stats.max_radius_edge, re);
   }

@@ -71,6 +71,25 @@ struct ConformingStats {
   /// the preserved surface, so a skinny cut triangle (intersection curves cut input triangles
   /// into needles and caps) forces flat tets on it.
   std::size_t slivers_at_surface = 0;
+  /// Why the slivers are there, each sliver counted once, in this order of precedence:
+  ///  - in a narrow wedge: its smallest dihedral angle sits on an edge of the cut mesh where the
+  ///    cell's wedge (see min_cell_wedge) is itself below sliver_bound: no mesh avoids it;
+  ///  - on a cap: a face is a cut triangle with an angle above 180 - sliver_bound degrees (the
+  ///    tets on such a face are nearly flat);
+  ///  - on a needle: a face is a cut triangle with an angle below sliver_bound degrees;
+  ///  - other: the rest (at the surface without a bad cut-triangle face, or inside).
+  std::size_t slivers_in_narrow_wedge = 0;
+  std::size_t slivers_on_cap = 0;
+  std::size_t slivers_on_needle = 0;
+  /// The smallest dihedral angle (degrees) of a cell at an edge of the cut mesh. Around each cut
+  /// edge its cut triangles split space into wedges; the tets of a mesh of the cells that share
+  /// a piece of that edge fill each cell wedge and their dihedral angles there sum to its angle.
+  /// So no tet mesh bounded by the cut surface, with Steiner points anywhere, has a minimum
+  /// dihedral angle above this: where sheets cross or fold at a smaller angle, a minimum dihedral
+  /// bound is unattainable. 180 when no cut edge bounds a cell. Doubles (report only).
+  double min_cell_wedge = 180.0;
+  /// Cut-mesh edges whose smallest cell wedge is below sliver_bound.
+  std::size_t narrow_wedge_edges = 0;
   double embedding_error = 0.0;   ///< as MeshStats::embedding_error (0: vertices are exact copies)
   double seconds_checks = 0.0;    ///< the exact checks of the rounded cut mesh
   double seconds_tetgen = 0.0;

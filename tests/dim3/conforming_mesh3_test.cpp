@@ -18,7 +18,10 @@
 //  7. coverage: at sample points (tet centroids), the output tets containing the point
 //     (exact side tests) number the generalized winding number of the input there;
 //  8. embedding: every used user vertex is the corner of weight 1 of its tet, at exactly its
-//     input position, on a boundary face of that tet.
+//     input position, on a boundary face of that tet;
+//  9. quality report: the minimum dihedral angle is at most the narrowest cell wedge at a cut edge
+//     (the bound no mesh bounded by the surface can beat), and the slivers' causes add up to at
+//     most the slivers.
 #include "dim3/conforming_mesh3.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -284,6 +287,26 @@ void check_conforming(const Conformed& c, std::size_t samples = 40) {
     EXPECT_EQ(out.vertices[static_cast<std::size_t>(ov)], c.im.surface.vertices[v]) << "vertex " << v;
     EXPECT_TRUE(on_boundary[static_cast<std::size_t>(ov)]) << "vertex " << v << " embedded off the boundary";
   }
+
+  // 9. Quality report (doubles).
+  const ConformingStats& st = c.mesh.stats;
+  EXPECT_LE(st.min_dihedral, st.min_cell_wedge + 1e-9);
+  EXPECT_LE(st.slivers_in_narrow_wedge + st.slivers_on_cap + st.slivers_on_needle, st.slivers);
+}
+
+/// A closed triangular prism along z (outward triangles) whose cross-section has the angle
+/// `apex_deg` at the edge on the z axis: its only cell has that dihedral wedge there.
+Surface wedge_prism(double apex_deg) {
+  const double half = apex_deg * std::acos(-1.0) / 360.0;
+  Surface s;
+  for (double z : {0.0, 1.0}) {
+    s.vertices.push_back({0.0, 0.0, z});
+    s.vertices.push_back({std::cos(half), -std::sin(half), z});
+    s.vertices.push_back({std::cos(half), std::sin(half), z});
+  }
+  // Bottom (0, 1, 2) seen from below, top (3, 4, 5) from above, three sides as two triangles.
+  s.triangles = {{0, 2, 1}, {3, 4, 5}, {0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {2, 0, 3}, {2, 3, 5}};
+  return s;
 }
 
 std::string real_path(const std::string& name) { return std::string(IMM_SHARED_DATA_DIR) + "/3d/" + name; }
@@ -338,6 +361,24 @@ TEST(Conforming3, DoubleLoopWithCube) {
   SurfaceReadResult r = read_surface(path);
   ASSERT_TRUE(r.report.ok()) << r.report.summary();
   check_conforming(conform(r.surface, 0.1), 10);
+}
+
+TEST(Conforming3, NarrowCellWedgeBoundsTheMinimumDihedral) {
+  // A 3-degree wedge of the solid at one edge: every tet at that edge has a dihedral angle of at
+  // most 3 degrees there, whatever the mesher does; the report says so and blames the wedge.
+  const Conformed c = conform(wedge_prism(3.0), 0.2);
+  check_conforming(c);
+  const ConformingStats& st = c.mesh.stats;
+  EXPECT_NEAR(st.min_cell_wedge, 3.0, 1e-6);
+  EXPECT_EQ(st.narrow_wedge_edges, 1u);
+  EXPECT_LE(st.min_dihedral, 3.0 + 1e-9);
+  EXPECT_GT(st.slivers_in_narrow_wedge, 0u);
+  // A 60-degree wedge is no bound at the sliver threshold; the other edges have 60 and 90 degrees.
+  const Conformed wide = conform(wedge_prism(60.0), 0.2);
+  check_conforming(wide);
+  EXPECT_NEAR(wide.mesh.stats.min_cell_wedge, 60.0, 1e-6);
+  EXPECT_EQ(wide.mesh.stats.narrow_wedge_edges, 0u);
+  EXPECT_EQ(wide.mesh.stats.slivers_in_narrow_wedge, 0u);
 }
 
 TEST(Conforming3, CutTrianglesOfEachInputTriangleComeInACanonicalOrder) {
