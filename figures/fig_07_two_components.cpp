@@ -5,80 +5,26 @@
 // background triangles: the deformed curves have 0 crossings on the unglued mesh (counted
 // exactly, dim2::check_generic) and keep crossings on the glued one. Pictures of both deformed
 // meshes with the deformed curves drawn on them (POV-Ray, seen from above).
-#include <map>
-
-#include "deform/arap.h"
 #include "deform/convert.h"
 #include "figures/figure_common.h"
-#include "render/scene.h"
+#include "figures/pull_2d.h"
 
 using namespace imm;
 
 namespace {
 
-struct Pulled2 {
-  Eigen::MatrixXd positions;
-  dim2::CurveSet curves;
-  std::size_t crossings = 0;
-  std::size_t inverted = 0;
-};
-
 /// The README's handles: mesh vertices with x <= -650 move by (-800, 0), with x >= 680 by
 /// (+800, 0); ARAP in 4 warm-started steps.
-Pulled2 pull(const deform::SimplexMesh<2>& mesh, const std::vector<deform::EmbeddedPoint>& embedding,
-             const dim2::CurveSet& curves) {
-  std::vector<Eigen::Index> handles;
-  std::vector<double> dx;
+figures::Pulled2 pull(const deform::SimplexMesh<2>& mesh, const std::vector<deform::EmbeddedPoint>& embedding,
+                      const dim2::CurveSet& curves) {
+  figures::Handle2 left, right;
+  left.move << -800, 0;
+  right.move << 800, 0;
   for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) {
-    if (mesh.vertices(v, 0) <= -650) handles.push_back(v), dx.push_back(-800);
-    else if (mesh.vertices(v, 0) >= 680) handles.push_back(v), dx.push_back(800);
+    if (mesh.vertices(v, 0) <= -650) left.vertices.push_back(v);
+    else if (mesh.vertices(v, 0) >= 680) right.vertices.push_back(v);
   }
-  const deform::ArapData<2> data = deform::arap_precompute<2>(mesh, handles);
-  if (!data.ok()) throw std::runtime_error("ARAP precomputation: " + data.error);
-  Eigen::MatrixXd targets = mesh.vertices(handles, Eigen::all);
-  const Eigen::MatrixXd rest = targets;
-  Pulled2 p;
-  p.positions = mesh.vertices;
-  for (int step = 1; step <= 4; ++step) {
-    for (std::size_t k = 0; k < handles.size(); ++k)
-      targets(static_cast<Eigen::Index>(k), 0) = rest(static_cast<Eigen::Index>(k), 0) + dx[k] * step / 4.0;
-    deform::arap_solve<2>(data, targets, p.positions, {.max_iterations = 100});
-  }
-  const Eigen::MatrixXd points = deform::embedded_positions(p.positions, mesh.elements, embedding);
-  p.curves = curves;
-  Eigen::Index i = 0;
-  for (dim2::Curve& c : p.curves.curves)
-    for (dim2::Point& q : c.vertices) q = {points(i, 0), points(i, 1)}, ++i;
-  p.crossings = dim2::check_generic(p.curves).crossings;
-  p.inverted = deform::inverted_elements<2>(p.positions, mesh.elements).size();
-  return p;
-}
-
-/// The deformed mesh (triangles by graph node, or one colour) with the deformed curves on top,
-/// seen from above.
-render::Scene pulled_scene(const deform::SimplexMesh<2>& mesh, const Eigen::MatrixXd& positions,
-                           const std::vector<int>& reference, const dim2::CurveSet& curves) {
-  render::Scene scene;
-  scene.ground = false;
-  scene.view = render::View{0, 0, 1};
-  render::Part part;
-  part.name = "deformed mesh";
-  for (Eigen::Index v = 0; v < positions.rows(); ++v) part.vertices.push_back({positions(v, 0), positions(v, 1), 0.0});
-  for (Eigen::Index e = 0; e < mesh.element_count(); ++e) {
-    part.triangles.push_back({static_cast<std::uint32_t>(mesh.elements(e, 0)), static_cast<std::uint32_t>(mesh.elements(e, 1)),
-                              static_cast<std::uint32_t>(mesh.elements(e, 2))});
-    part.triangle_colors.push_back(reference.empty() ? render::colors::kSurface
-                                                     : render::palette(static_cast<std::size_t>(std::max(0, reference[static_cast<std::size_t>(e)]))));
-  }
-  scene.parts.push_back(std::move(part));
-  for (const dim2::Curve& c : curves.curves) {
-    render::Polyline line;
-    line.closed = true;
-    line.color = render::colors::kEdge;
-    for (const dim2::Point& q : c.vertices) line.points.push_back({q.x, q.y, 1.0});
-    scene.polylines.push_back(std::move(line));
-  }
-  return scene;
+  return figures::pull_2d(mesh, embedding, curves, {left, right}, 4);
 }
 
 }  // namespace
@@ -108,25 +54,25 @@ int main(int argc, char** argv) {
     // Pulled apart with ARAP, unglued against glued.
     const deform::DeformableInput<2> in = deform::deformable(mesh);
     const std::size_t before = dim2::check_generic(run.curves).crossings;
-    const Pulled2 unglued = pull(in.unglued, in.unglued_embedding, run.curves);
-    const Pulled2 glued = pull(in.glued.mesh, in.glued_embedding, run.curves);
-    std::cout << "deformed curves, crossings (exact): input " << before << ", unglued " << unglued.crossings << ", glued "
-              << glued.crossings << "; inverted triangles: unglued " << unglued.inverted << ", glued " << glued.inverted << '\n';
+    const figures::Pulled2 unglued = pull(in.unglued, in.unglued_embedding, run.curves);
+    const figures::Pulled2 glued = pull(in.glued.mesh, in.glued_embedding, run.curves);
+    std::cout << "deformed curves, crossings (exact): input " << before << ", unglued " << unglued.crossings() << ", glued "
+              << glued.crossings() << "; inverted triangles: unglued " << unglued.inverted << ", glued " << glued.inverted << '\n';
     figures::expect(before > 0, "the two components cross each other");
-    figures::expect(unglued.crossings == 0, "Fig. 7: pulled apart on the unglued mesh, the curves no longer cross (0 crossings)");
+    figures::expect(unglued.crossings() == 0, "Fig. 7: pulled apart on the unglued mesh, the curves no longer cross (0 crossings)");
     figures::expect(unglued.inverted == 0, "no inverted triangle in the pulled unglued mesh");
-    figures::expect(glued.crossings > 0, "on the glued mesh the same pull keeps crossings (" + std::to_string(glued.crossings) + ")");
+    figures::expect(glued.crossings() > 0, "on the glued mesh the same pull keeps crossings (" + std::to_string(glued.crossings()) + ")");
     figures::write(args, "fig7_unglued_pulled.txt", dim2::format_curves_text(unglued.curves));
     figures::write(args, "fig7_glued_pulled.txt", dim2::format_curves_text(glued.curves));
-    if (const auto image = figures::picture(args, pulled_scene(in.unglued, unglued.positions, mesh.mesh.reference, unglued.curves),
+    if (const auto image = figures::picture(args, figures::pulled_scene(in.unglued, unglued.positions, mesh.mesh.reference, unglued.curves),
                                             "fig7_unglued_pulled.png",
-                                            "unglued mesh pulled apart (ARAP), by graph node: " + std::to_string(unglued.crossings) +
+                                            "unglued mesh pulled apart (ARAP), by graph node: " + std::to_string(unglued.crossings()) +
                                                 " crossings")) {
       std::size_t colours = 0;
       for (std::size_t k = 0; k < render::palette_size(); ++k) colours += figures::hue_pixels(*image, render::palette(k)) > 20 ? 1 : 0;
       figures::expect(colours >= 2, "the pulled unglued mesh shows the copies of at least two graph nodes");
     }
-    figures::picture(args, pulled_scene(in.glued.mesh, glued.positions, {}, glued.curves), "fig7_glued_pulled.png",
-                     "glued baseline, same pull: " + std::to_string(glued.crossings) + " crossings");
+    figures::picture(args, figures::pulled_scene(in.glued.mesh, glued.positions, {}, glued.curves), "fig7_glued_pulled.png",
+                     "glued baseline, same pull: " + std::to_string(glued.crossings()) + " crossings");
   });
 }
