@@ -153,6 +153,14 @@ int main(int argc, char** argv) {
       }
     }
     if (first_input) {
+      // Where the handles are: the input curve on the (glued) mesh at rest, the dots at the
+      // handles' rest centres.
+      std::vector<Eigen::RowVector2d> rest_points;
+      for (const HandleSpec& spec : kHandles) rest_points.emplace_back(spec.at.x, spec.at.y);
+      if (const auto image = figures::picture(
+              args, figures::pulled_scene(first_input->glued.mesh, first_input->glued.mesh.vertices, {}, run.curves, rest_points),
+              "fig6_handles.png", "the input curve at rest and the handle points (green): left fixed, right pulled"))
+        figures::expect(figures::hue_pixels(*image, figures::handle_color()) > 0, "the pictures show the green handle dots");
       figures::write(args, "fig6_glued_pulled.txt", dim2::format_curves_text(first_glued->curves));
       if (const auto image = figures::picture(
               args, figures::pulled_scene(first_input->glued.mesh, first_glued->positions, {}, first_glued->curves,
