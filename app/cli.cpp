@@ -448,7 +448,12 @@ Json contacts_json(const ContactsView& c, const std::string& facet_key) {
   Json j = Json::object();
   j["resolved"] = c.perturbation != nullptr;
   Json& counts = (j["counts"] = Json::object());
-  for (const auto& [kind, n] : *c.counts) counts[to_string(kind)] = n;
+  std::size_t total = 0;
+  for (const auto& [kind, n] : *c.counts) {
+    counts[to_string(kind)] = n;
+    total += n;
+  }
+  j["total"] = total;  // the "N exact contacts" of the note
   if (c.perturbation != nullptr) {
     j["max_displacement"] = c.perturbation->max_displacement;
     j["diagonal"] = c.perturbation->diagonal;

@@ -59,6 +59,8 @@ struct PreparedSurface {
   std::shared_ptr<Complex> complex;
   std::optional<dim3::Contacts> contacts;    ///< exact contacts (resolved unless --strict)
   ValidationReport folds;                     ///< local folds: exit 3 (check: a note)
+  std::optional<dim3::FoldRepair> repair;     ///< --repair-folds was given and the input had folds
+  std::optional<double> repair_max;           ///< the --repair-folds budget
   bool list_contacts = false;                 ///< print every contact (check)
 };
 
@@ -75,6 +77,25 @@ Json box_json(const Box3& b) {
   return j;
 }
 
+/// What --repair-folds did (the JSON twin of fold_repair_note): every moved vertex with its old
+/// and new position and the distance, or why the folds were not repaired.
+Json fold_repair_json(const dim3::FoldRepair& r, std::optional<double> max_allowed) {
+  Json j = Json::object();
+  j["repaired"] = r.ok;
+  j["max_allowed"] = max_allowed ? Json(*max_allowed) : Json();
+  j["max_displacement"] = r.max_displacement;
+  Json& moved = (j["moved"] = Json::array());
+  for (const dim3::MovedVertex& m : r.moved) {
+    Json& o = moved.emplace_back(Json::object());
+    o["vertex"] = m.vertex;
+    o["from"] = point_json(m.from);
+    o["to"] = point_json(m.to);
+    o["displacement"] = m.distance;
+  }
+  if (!r.ok) j["failure"] = r.failure;
+  return j;
+}
+
 Json input_json(const PreparedSurface& p) {
   Json j = Json::object();
   j["path"] = p.path;
@@ -83,6 +104,7 @@ Json input_json(const PreparedSurface& p) {
   j["vertices"] = p.surface.vertex_count();
   j["reversed"] = p.complex ? Json(p.complex->reversed) : Json();
   if (p.contacts) j["contacts"] = contacts_json(contacts_view(*p.contacts), "triangles");
+  if (p.repair) j["fold_repair"] = fold_repair_json(*p.repair, p.repair_max);
   return j;
 }
 
@@ -143,6 +165,8 @@ int prepare_surface(Session& s, PreparedSurface& p, bool exact_volumes) {
   dim3::BuildResult built =
       s.timed("complex", [&] { return dim3::build_complex(p.surface, options); });
   if (built.repair) print_repair_note(s, *built.repair);
+  p.repair = std::move(built.repair);
+  p.repair_max = s.repair_folds();
   p.contacts = std::move(built.contacts);
   if (p.contacts) print_contacts_note(s, p.path, contacts_view(*p.contacts), p.list_contacts);
   if (!built.folds.ok()) {
@@ -323,6 +347,8 @@ int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, con
   im = dim3::immerse_surface(p.surface, options);
   s.add_time("complex", im.build_seconds);
   if (im.repair) print_repair_note(s, *im.repair);
+  p.repair = im.repair;
+  p.repair_max = s.repair_folds();
   p.contacts = im.contacts;
   if (p.contacts) print_contacts_note(s, p.path, contacts_view(*p.contacts), false);
   for (const std::string& note : im.notes) s.err() << "immerse: note: " << note << '\n';

@@ -210,6 +210,8 @@ TEST_F(Cli3Test, ExactContactsAreResolvedWithANote) {
   const JsonValue j = read_json("report.json");
   EXPECT_TRUE(j["input"]["contacts"]["resolved"].get<bool>());
   EXPECT_EQ(j["input"]["contacts"]["counts"]["touching"].get<long>(), 8);
+  EXPECT_EQ(j["input"]["contacts"]["total"].get<long>(), 8);
+  EXPECT_FALSE(j["input"]["contacts"]["listed"].empty());
   EXPECT_LE(j["input"]["contacts"]["max_displacement"].get<double>(), std::ldexp(1.0, -30) * 2);
   EXPECT_EQ(j["count"].get<long>(), 1);
   // check lists each contact with its ids (and the input is valid).
@@ -829,6 +831,8 @@ TEST_F(Cli3RealTest, DoubleLoopWithCubeIsResolvedAndMeshed) {
   EXPECT_CONTAINS(r.output, "408 exact contacts (408 touching), resolved");
   const JsonValue j = read_json("dl.json");
   EXPECT_EQ(j["input"]["contacts"]["counts"]["touching"].get<long>(), 408);
+  EXPECT_EQ(j["input"]["contacts"]["total"].get<long>(), 408);
+  EXPECT_GT(j["input"]["contacts"]["max_displacement"].get<double>(), 0.0);
   EXPECT_EQ(run("immersions " + file("doubleLoopWithCube.obj") + " --strict").code, 2);
 }
 
@@ -847,17 +851,51 @@ TEST_F(Cli3Test, LocalFoldsAreRepairedOnlyWhenAskedAndEveryMoveIsReported) {
   EXPECT_EQ(refused.output.find("exact contacts"), std::string::npos) << "folds alone are no contacts\n" << refused.output;
   for (const char* command : {"cells fold.obj", "immersions fold.obj", "mesh fold.obj -o fold.vtu --embedding fold.emb"}) {
     SCOPED_TRACE(command);
-    const Outcome repaired = run(std::string(command) + " --repair-folds 3");
+    const Outcome repaired = run(std::string(command) + " --repair-folds 3 --json repaired.json");
     EXPECT_EQ(repaired.code, 0) << repaired.output;
     EXPECT_NE(repaired.output.find("immerse: note: local folds repaired (--repair-folds 3): "), std::string::npos)
         << repaired.output;
     EXPECT_NE(repaired.output.find("vertex 6 (-5.5, -3, 1) -> ("), std::string::npos) << repaired.output;
     EXPECT_NE(repaired.output.find("1 cell, 1 patch, 0 arcs"), std::string::npos) << repaired.output;
+    // The JSON carries what the note says: every moved vertex, where from, where to, how far.
+    const JsonValue j = read_json("repaired.json");
+    const JsonValue& r = j["input"]["fold_repair"];
+    EXPECT_TRUE(r["repaired"].get<bool>());
+    EXPECT_EQ(r["max_allowed"].get<double>(), 3.0);
+    ASSERT_FALSE(r["moved"].empty());
+    EXPECT_NE(repaired.output.find(std::to_string(r["moved"].size()) + " vertices moved"), std::string::npos)
+        << repaired.output;
+    double largest = 0.0;
+    bool fold_vertex = false;
+    for (const JsonValue& m : r["moved"]) {
+      double d2 = 0.0;
+      for (int d = 0; d < 3; ++d) {
+        const double x = m["to"][d].get<double>() - m["from"][d].get<double>();
+        d2 += x * x;
+      }
+      EXPECT_DOUBLE_EQ(m["displacement"].get<double>(), std::sqrt(d2));
+      EXPECT_GT(m["displacement"].get<double>(), 0.0);
+      EXPECT_LE(m["displacement"].get<double>(), 3.0);
+      largest = std::max(largest, m["displacement"].get<double>());
+      if (m["vertex"].get<long>() == 6) {
+        fold_vertex = true;
+        EXPECT_EQ(m["from"], JsonValue::parse("[-5.5, -3.0, 1.0]"));
+      }
+    }
+    EXPECT_TRUE(fold_vertex);
+    EXPECT_EQ(r["max_displacement"].get<double>(), largest);
+    EXPECT_FALSE(j["input"].contains("contacts")) << "folds alone are no contacts";
   }
+  EXPECT_EQ(run("cells fold.obj --json plain.json").code, 3);
+  EXPECT_FALSE(read_json("plain.json")["input"].contains("fold_repair")) << "no repair without --repair-folds";
   EXPECT_TRUE(exists("fold.vtu"));
   EXPECT_TRUE(exists("fold.emb"));
-  const Outcome too_small = run("mesh fold.obj --repair-folds 0.01 -o small.vtu");
+  const Outcome too_small = run("mesh fold.obj --repair-folds 0.01 -o small.vtu --json small.json");
   EXPECT_EQ(too_small.code, 3) << too_small.output;
+  const JsonValue refused_json = read_json("small.json");
+  EXPECT_EQ(refused_json["status"].get<std::string>(), "local-fold");
+  EXPECT_FALSE(refused_json["input"]["fold_repair"]["repaired"].get<bool>());
+  EXPECT_NE(refused_json["input"]["fold_repair"]["failure"].get<std::string>().find("vertex"), std::string::npos);
   EXPECT_NE(too_small.output.find("--repair-folds: "), std::string::npos) << too_small.output;
   EXPECT_NE(too_small.output.find("not repaired within --repair-folds 0.01: vertex"), std::string::npos)
       << too_small.output;
