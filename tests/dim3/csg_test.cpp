@@ -278,6 +278,34 @@ TEST(CsgBaselineTouching, TheFirstContactInTetOrderIsReported) {
   EXPECT_EQ(messages[0], messages[1]);
 }
 
+// Exact contacts (DESIGN §5): the CSG baseline takes the same perturbed input as clipping (the
+// complex's surface), so it accepts the same files and duplicates the same way. Two cubes sharing
+// a face (coincident vertices), one resting on another's edge, one on another with overlapping
+// coplanar faces, and a tetrahedron's corner on a cube's face.
+TEST(CsgBaselineContacts, SameDuplicationAsClipping) {
+  const Surface a = box_surface(Box3{{0, 0, 0}, {1, 1, 1}});
+  Surface corner;  // a tetrahedron with its corner (1, 0.5, 0.5) on the face x = 1
+  corner.vertices = {{1, 0.5, 0.5}, {1.5, 0, 0}, {1.5, 1, 0}, {1.5, 0.5, 1}};
+  corner.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  if (signed_volume(corner) < 0)
+    for (Triangle& t : corner.triangles) std::swap(t[1], t[2]);
+  corner.source_face = {0, 1, 2, 3};
+  const std::vector<std::pair<const char*, Surface>> cases = {
+      {"shared_face", merge(a, box_surface(Box3{{1, 0, 0}, {2, 1, 1}}))},
+      {"on_edge", merge(a, box_surface(Box3{{1, 1, 0.25}, {2, 2, 0.75}}))},
+      {"coplanar_overlap", merge(a, box_surface(Box3{{0.5, 0.5, 1}, {1.5, 1.5, 2}}))},
+      {"corner_on_face", merge(a, corner)},
+  };
+  for (const auto& [name, surface] : cases) {
+    SCOPED_TRACE(name);
+    BuildOptions strict;
+    strict.strict = true;
+    strict.exact_volumes = false;
+    EXPECT_FALSE(build_complex(surface, strict).report.ok()) << "not a contact";
+    expect_same_duplication(surface, name, 4);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Generated, CsgBaseline,
                          testing::Values(Case{"sphere", {"6"}, 5}, Case{"two-spheres", {"6"}, 5},
                                          Case{"tube-overlap", {"6"}, 5}, Case{"comb", {"2"}, 5},
