@@ -141,6 +141,16 @@ std::vector<Case> cases() {
   add("doodle", {"3"}, 4, false);
   add("fig6", {}, 8, true);
   add("doodle", {"2"}, 8, true);
+  // Exact contacts (DESIGN §5): both paths run on the same perturbed copy.
+  const auto curves = [](std::vector<std::vector<Point>> list) {
+    CurveSet s;
+    for (auto& c : list) s.curves.push_back({std::move(c)});
+    return s;
+  };
+  const std::vector<Point> square{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  out.push_back({"contact shared edge @6", curves({square, {{1, 0}, {2, 0}, {2, 1}, {1, 1}}}), 6, false});
+  out.push_back({"contact collinear overlap @6", curves({square, {{1, 0.25}, {2, 0.25}, {2, 0.75}, {1, 0.75}}}), 6, false});
+  out.push_back({"contact vertex on segment @6", curves({square, {{0.5, 0}, {0.25, -0.5}, {0.75, -0.5}}}), 6, false});
   out.push_back({"comb 6 gap 1e-3 @8", comb(6, 1e-3), 8, false});
   out.push_back({"comb 5 gap 1e-9 @12", comb(5, 1e-9), 12, false});
   return out;

@@ -466,6 +466,42 @@ TEST(Mesh2, OverlappingDisksStaySeparateSheets) {
   }
 }
 
+// Exact contacts (DESIGN §5): curves touching at a vertex, along a segment, a vertex on a
+// segment. The complex describes a perturbed copy within 2^-30 of the diagonal; the mesh of it
+// passes the same checks against the user's curves (coverage, embedding, unglued), with one
+// mesh component per touching shape: they come apart, they are not glued. (Background meshes
+// only: a conforming mesh would have to resolve the 2^-40 gap itself.)
+CurveSet touching(std::vector<std::vector<Point>> curves) {
+  CurveSet s;
+  for (auto& c : curves) s.curves.push_back({std::move(c)});
+  return s;
+}
+
+TEST(Mesh2Contacts, TouchingCurvesMeshApart) {
+  const std::vector<Point> a{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const std::vector<std::pair<const char*, CurveSet>> cases = {
+      {"shared_edge", touching({a, {{1, 0}, {2, 0}, {2, 1}, {1, 1}}})},
+      {"shared_corner", touching({a, {{1, 1}, {2, 1}, {2, 2}, {1, 2}}})},
+      {"collinear_overlap", touching({a, {{1, 0.25}, {2, 0.25}, {2, 0.75}, {1, 0.75}}})},
+      {"vertex_on_segment", touching({a, {{0.5, 0}, {0.25, -0.5}, {0.75, -0.5}}})},
+  };
+  for (const auto& [name, curves] : cases) {
+    SCOPED_TRACE(name);
+    const Prepared p = prepare(curves);
+    ASSERT_TRUE(p.built.contacts && p.built.contacts->perturbation) << "not a contact";
+    ASSERT_EQ(p.search.immersions.size(), 1u);
+    const Immersion& immersion = p.search.immersions.front();
+    EXPECT_EQ(immersion.components().size(), 2u);
+    const MeshResult r = mesh(p, immersion, 8, false);
+    ASSERT_TRUE(r.report.ok()) << r.report.summary();
+    expect_counter_clockwise(r.mesh);
+    expect_coverage(p, immersion, r);
+    expect_embedding(p, r);
+    expect_unglued(p, immersion, r);
+    EXPECT_EQ(edge_components(r.mesh), 2u);
+  }
+}
+
 TEST(Mesh2, ClockwiseInputIsMeshedInItsOwnVertexOrder) {
   // All winding numbers <= 0: the complex reverses the curve; embedding ids stay the file's.
   CurveSet curves = curl();
