@@ -98,8 +98,12 @@ InputExtent input_extent(const Complex2& complex) {
 /// lattice of spacing ~ size_bound, and refines. The lattice gives the mesher nearly nothing to do
 /// away from constraints: refinement from the bare box, one circumcenter at a time, costs
 /// super-linear time in CGAL's priority queues (14 s instead of ~2 s for 10^6 triangles).
+/// @param max_vertices  0: refine until done; otherwise stop once the triangulation has more
+///   vertices (checked every 1,024 steps) and @return false. Step by step is the same sequence of
+///   insertions as CGAL's refine_mesh (one step of the edge level while it has work, else one of
+///   the face level).
 template <class Cdt, class Criteria>
-void insert_box_and_refine(Cdt& cdt, const Box& box, double size_bound) {
+bool insert_box_and_refine(Cdt& cdt, const Box& box, double size_bound, std::size_t max_vertices = 0) {
   using P = typename Cdt::Point;
   const double width = box.xmax - box.xmin, height = box.ymax - box.ymin;
   const double spacing = 0.95 * size_bound;
@@ -134,7 +138,15 @@ void insert_box_and_refine(Cdt& cdt, const Box& box, double size_bound) {
     }
   }
   cdt.insert(seeds.begin(), seeds.end());
-  CGAL::refine_Delaunay_mesh_2(cdt, Criteria(0.125, size_bound));
+  if (max_vertices == 0) {
+    CGAL::refine_Delaunay_mesh_2(cdt, Criteria(0.125, size_bound));
+    return true;
+  }
+  CGAL::Delaunay_mesher_2<Cdt, Criteria> mesher(cdt, Criteria(0.125, size_bound));
+  mesher.init();
+  for (std::size_t step = 1; mesher.try_one_step_refine_mesh(); ++step)
+    if (step % 1024 == 0 && cdt.number_of_vertices() > max_vertices) return false;
+  return true;
 }
 
 /// Numbers the vertices and lists the finite faces (counter-clockwise in CGAL).
@@ -152,6 +164,10 @@ void extract(Cdt& cdt, detail::Background& out, ToPoint&& store_vertex) {
 
 /// The largest generated 2D background (see generate_background).
 constexpr double kMaxBackgroundTriangles = 4e6;
+/// A conforming mesh stops refining beyond this many vertices per seed-lattice triangle plus
+/// kConformingExtraVertices (see generate_background).
+constexpr std::size_t kConformingVerticesPerSeed = 20;
+constexpr std::size_t kConformingExtraVertices = 20000;
 
 detail::Background generate_background(const Complex2& complex, const MeshOptions& options,
                                        ValidationReport& report) {
@@ -177,10 +193,12 @@ detail::Background generate_background(const Complex2& complex, const MeshOption
   // The mesher's size: the seed lattice alone has area / (sqrt(3)/4 (0.95 h)^2) triangles (about
   // 1.7 resolution^2 for a square input). Refused before any allocation above kMaxTriangles:
   // resolution 3,000 (15 million triangles) took 39 s and 3.2 GB, 10,000 ran out of memory.
+  double seed_estimate = 0.0;  // triangles of the seed lattice
   {
     const double spacing = 0.95 * size_bound;
     const double area = (box.xmax - box.xmin) * (box.ymax - box.ymin);
     const double estimate = area / (std::sqrt(3.0) / 4.0 * spacing * spacing);
+    seed_estimate = estimate;
     if (!(estimate <= kMaxBackgroundTriangles)) {
       std::ostringstream msg;
       msg << "resolution " << options.resolution << " would generate about "
@@ -204,7 +222,21 @@ detail::Background generate_background(const Complex2& complex, const MeshOption
   typename Types::Cdt cdt;
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
   for (const CutSegment& s : complex.exact->segments) cdt.insert_constraint(s.source, s.target);
-  insert_box_and_refine<typename Types::Cdt, typename Types::Criteria>(cdt, box, size_bound);
+  // Refinement grades down to the input's smallest feature: two constraints 1e-12 apart along a
+  // whole side (the thin gap a contact's perturbation leaves between touching curves, or a
+  // near contact) would need ~1e12 triangles. Stop long before memory runs out and say why.
+  const std::size_t cap = kConformingVerticesPerSeed * static_cast<std::size_t>(seed_estimate) + kConformingExtraVertices;
+  if (!insert_box_and_refine<typename Types::Cdt, typename Types::Criteria>(cdt, box, size_bound, cap)) {
+    std::ostringstream msg;
+    msg << "the conforming mesh refines past " << cap << " vertices (resolution " << options.resolution
+        << " asks for about " << static_cast<long long>(seed_estimate)
+        << " triangles): the input has features far smaller than the mesh size, such as curves that "
+           "touch exactly (the perturbation resolving the contacts leaves gaps of about 2^-40 of the "
+           "scale) or nearly"
+        << "; mesh on a background instead (without --conforming)";
+    report.add({DefectKind::OutOfRange, "mesh", msg.str(), {}, {}, {}});
+    return {};
+  }
   extract(cdt, out, [&](const Point_2& p) {
     out.vertices.push_back(to_double(p));
     out.exact_vertices.push_back({to_rational(p.x()), to_rational(p.y())});

@@ -502,6 +502,20 @@ TEST(Mesh2Contacts, TouchingCurvesMeshApart) {
   }
 }
 
+// A conforming mesh of touching squares would have to grade down to the 2^-40 gap the
+// perturbation leaves along their shared side (~1e12 triangles): refused with a message once
+// the refinement passes its vertex budget (about a second), instead of running out of memory.
+TEST(Mesh2Contacts, ConformingMeshOfTouchingCurvesIsRefusedNotRunAway) {
+  const Prepared p = prepare(touching({{{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {{1, 0}, {2, 0}, {2, 1}, {1, 1}}}));
+  ASSERT_EQ(p.search.immersions.size(), 1u);
+  const MeshResult r = mesh(p, p.search.immersions.front(), 8, true);
+  ASSERT_FALSE(r.report.ok());
+  EXPECT_EQ(r.report.defects.front().kind, DefectKind::OutOfRange);
+  EXPECT_NE(r.report.defects.front().message.find("mesh on a background instead"), std::string::npos)
+      << r.report.defects.front().message;
+  EXPECT_TRUE(r.mesh.triangles.empty());
+}
+
 TEST(Mesh2, ClockwiseInputIsMeshedInItsOwnVertexOrder) {
   // All winding numbers <= 0: the complex reverses the curve; embedding ids stay the file's.
   CurveSet curves = curl();
