@@ -319,5 +319,26 @@ TEST(Contacts3Real, DoubleLoopWithCube) {
   }
 }
 
+// The double-loop torus alone (the same 408 contacts): its winding-2 cell is self-connecting
+// (paper Fig. 13), so it gets one automatic helper box (the cube's job in the file above) and
+// then one immersion; without boxes the verdict says so.
+TEST(Contacts3Real, DoubleLoopTorusOnlyGetsAHelperBox) {
+  const std::string path = real("doubleLoop_torusOnly_tri.obj");
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "../shared/data absent";
+  const SurfaceReadResult in = read_surface(path);
+  ASSERT_TRUE(in.report.ok()) << in.report.summary();
+  ImmerseOptions options;
+  options.build.exact_volumes = false;
+  const Immersed with = immerse_surface(in.surface, options);
+  ASSERT_TRUE(with.contacts && with.contacts->perturbation);
+  EXPECT_EQ(with.contacts->found.total(), 408u);
+  EXPECT_EQ(with.helper_boxes.size(), 1u);
+  EXPECT_EQ(with.search.status, ImmersionStatus::Immersible);
+  EXPECT_EQ(with.search.immersions.size(), 1u);
+  options.max_boxes = 0;
+  const Immersed without = immerse_surface(in.surface, options);
+  EXPECT_EQ(without.search.status, ImmersionStatus::SelfConnectingCell);
+}
+
 }  // namespace
 }  // namespace imm::dim3
