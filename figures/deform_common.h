@@ -112,22 +112,28 @@ inline Crossings crossings(const dim3::Surface& surface) {
   return c;
 }
 
-/// Pictures of one deformed mesh: the deformed input surface (its self-intersecting triangles
-/// red; the picture must show red exactly when there are some) and the deformed tet mesh (by
-/// graph node when `reference` is given, else one colour).
+/// A picture of an input surface (as given or deformed) with its self-intersecting triangles
+/// red; the picture must show red exactly when there are some.
+inline void input_picture(const FigureArgs& args, const std::string& file, const std::string& label,
+                          const dim3::Surface& surface, const Crossings& crossing, const render::View& view,
+                          const std::string& subject = "input") {
+  render::Scene scene;
+  scene.parts.push_back(render::surface_part(surface, crossing.triangle, render::colors::kSurface, true));
+  scene.view = view;
+  if (const auto image =
+          picture(args, scene, file, label + ", " + std::to_string(crossing.pairs) + " self-intersecting triangle pairs (red)")) {
+    const std::size_t red = hue_pixels(*image, render::colors::kIntersecting);
+    expect((red > 0) == (crossing.pairs > 0), file + " shows red exactly when the " + subject + " intersects itself");
+  }
+}
+
+/// Pictures of one deformed mesh: the deformed input surface (input_picture) and the deformed
+/// tet mesh (by graph node when `reference` is given, else one colour).
 inline void deformed_pictures(const FigureArgs& args, const std::string& stem, const std::string& what,
                               const dim3::Surface& deformed_input, const Crossings& crossing,
                               const deform::SimplexMesh<3>& mesh, const Eigen::MatrixXd& positions,
                               const std::vector<int>& reference, const render::View& view) {
-  render::Scene surface;
-  surface.parts.push_back(render::surface_part(deformed_input, crossing.triangle, render::colors::kSurface, true));
-  surface.view = view;
-  if (const auto image = picture(args, surface, stem + "_input.png",
-                                 what + ": the deformed input, " + std::to_string(crossing.pairs) +
-                                     " self-intersecting triangle pairs (red)")) {
-    const std::size_t red = hue_pixels(*image, render::colors::kIntersecting);
-    expect((red > 0) == (crossing.pairs > 0), stem + "_input.png shows red exactly when the deformed input intersects itself");
-  }
+  input_picture(args, stem + "_input.png", what + ": the deformed input", deformed_input, crossing, view, "deformed input");
   render::TetStyle style;
   style.color_by = reference.empty() ? render::TetStyle::ColorBy::Single : render::TetStyle::ColorBy::Reference;
   style.edges = !args.quick;
