@@ -1,13 +1,15 @@
 // Plumbing shared by the figure programs of paper §8 (deformation and weights on the unglued
 // mesh beside the glued baseline): a deform::SimplexMesh<3> at some positions as a dim3::TetMesh
 // to draw, the input surface carried by an embedding, the connected parts of an input surface,
-// handle vertices picked through the embedding, and the colour-bar check of a scalar picture.
+// handle vertices picked through the embedding, the colour-bar check of a scalar picture, and
+// the held-and-dropped FEM run of Figs. 3 and 22.
 #pragma once
 
 #include <numeric>
 #include <string>
 #include <vector>
 
+#include "deform/fem.h"
 #include "deform/simplex_mesh.h"
 #include "dim3/surface.h"
 #include "dim3/surface_genericity.h"
@@ -110,6 +112,65 @@ inline Crossings crossings(const dim3::Surface& surface) {
   Crossings c{g.intersecting_pairs, std::vector<bool>(surface.triangle_count(), false)};
   for (const auto& [i, j] : g.pairs) c.triangle[i] = c.triangle[j] = true;
   return c;
+}
+
+/// The outcome of `drop` on one mesh.
+struct Dropped {
+  Eigen::MatrixXd positions;
+  dim3::Surface surface;
+  Crossings crossing;
+  std::size_t held_free_pairs = 0;  ///< intersecting triangle pairs between a held and a free part
+  std::size_t inverted = 0;         ///< at the end
+  std::size_t most_inverted = 0;    ///< the most at any step
+  double free_drop = 0.0;           ///< mean displacement of the free input vertices along the gravity
+  int newton_iterations = 0;
+  int unconverged = 0;
+  std::size_t held = 0;  ///< mesh vertices held
+};
+
+/// A dynamic FEM run on one mesh (Figs. 3 and 22): holds the carrying vertices of the `held`
+/// input vertices in place and simulates `steps` implicit Euler steps with `options` (gravity,
+/// ground, time step). `held_part` per input vertex: whether it belongs to a held part; pairs of
+/// intersecting triangles between a held and a free part are counted apart, and the free parts'
+/// mean displacement along the gravity.
+inline Dropped drop(const deform::SimplexMesh<3>& mesh, const std::vector<deform::EmbeddedPoint>& embedding,
+                    const dim3::Surface& input, const std::vector<std::size_t>& held,
+                    const std::vector<bool>& held_part, const deform::FemOptions& options, int steps) {
+  Dropped d;
+  const std::vector<Eigen::Index> handles = carrying_vertices(mesh, embedding, held);
+  d.held = handles.size();
+  const deform::FemData<3> data = deform::fem_precompute<3>(mesh, handles, options.material);
+  if (!data.ok()) throw std::runtime_error("FEM precomputation: " + data.error);
+  deform::FemState<3> state{mesh.vertices, Eigen::MatrixXd::Zero(mesh.vertex_count(), 3)};
+  const Eigen::MatrixXd targets = mesh.vertices(handles, Eigen::all);
+  for (int step = 1; step <= steps; ++step) {
+    const deform::FemReport r = deform::fem_step<3>(data, state, targets, options);
+    if (!r.error.empty()) throw std::runtime_error("FEM step: " + r.error);
+    d.newton_iterations += r.newton_iterations;
+    d.unconverged += r.converged ? 0 : 1;
+    d.most_inverted = std::max(d.most_inverted, deform::inverted_elements<3>(state.positions, mesh.elements).size());
+  }
+  d.positions = state.positions;
+  const Eigen::MatrixXd points = deform::embedded_positions(d.positions, mesh.elements, embedding);
+  d.surface = moved_surface(input, points);
+  const dim3::SurfaceGenericity g = dim3::check_generic_surface(d.surface, /*keep_pairs=*/true);
+  d.crossing.pairs = g.intersecting_pairs;
+  d.crossing.triangle.assign(d.surface.triangle_count(), false);
+  for (const auto& [i, j] : g.pairs) {
+    d.crossing.triangle[i] = d.crossing.triangle[j] = true;
+    if (held_part[d.surface.triangles[i][0]] != held_part[d.surface.triangles[j][0]]) ++d.held_free_pairs;
+  }
+  d.inverted = deform::inverted_elements<3>(d.positions, mesh.elements).size();
+  std::size_t free_count = 0;
+  const Eigen::RowVector3d down = options.gravity.transpose().normalized();
+  for (std::size_t v = 0; v < input.vertices.size(); ++v)
+    if (!held_part[v]) {
+      const auto& p = input.vertices[v];
+      d.free_drop += (points.row(static_cast<Eigen::Index>(v)) - Eigen::RowVector3d(p[0], p[1], p[2])).dot(down);
+      ++free_count;
+    }
+  if (free_count > 0) d.free_drop /= static_cast<double>(free_count);
+  return d;
 }
 
 /// A picture of an input surface (as given or deformed) with its self-intersecting triangles

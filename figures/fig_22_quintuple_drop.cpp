@@ -14,7 +14,6 @@
 // arms under gravity, and reports its inverted tets and sag (skipped when the data is absent).
 // Pictures: the input (collided faces red), the deformed inputs and deformed meshes.
 #include "deform/convert.h"
-#include "deform/fem.h"
 #include "deform/vtu.h"
 #include "dim3/generators3.h"
 #include "dim3/self_connecting.h"
@@ -30,70 +29,7 @@ using namespace imm;
 
 namespace {
 
-struct Dropped {
-  Eigen::MatrixXd positions;
-  dim3::Surface surface;
-  figures::Crossings crossing;
-  std::size_t held_free_pairs = 0;  ///< intersecting triangle pairs between a held and a free part
-  std::size_t inverted = 0;         ///< at the end
-  std::size_t most_inverted = 0;    ///< the most at any step
-  double free_drop = 0.0;           ///< mean downward displacement of the free input vertices
-  int newton_iterations = 0;
-  int unconverged = 0;
-  std::size_t held = 0;  ///< mesh vertices held
-};
-
-/// Holds the carrying vertices of the `held` input vertices and simulates `steps` implicit
-/// Euler steps of `h` under gravity along -`up` with a ground plane at height `ground` (along
-/// `up`). `held_part` per input vertex: whether it belongs to a held part (for the pair count).
-Dropped drop(const deform::SimplexMesh<3>& mesh, const std::vector<deform::EmbeddedPoint>& embedding,
-             const dim3::Surface& input, const std::vector<std::size_t>& held, const std::vector<bool>& held_part,
-             int up, double ground, int steps, double h, const deform::Material& material) {
-  Dropped d;
-  const std::vector<Eigen::Index> handles = figures::carrying_vertices(mesh, embedding, held);
-  d.held = handles.size();
-  const deform::FemData<3> data = deform::fem_precompute<3>(mesh, handles, material);
-  if (!data.ok()) throw std::runtime_error("FEM precomputation: " + data.error);
-  deform::FemOptions options;
-  options.material = material;
-  options.time_step = h;
-  options.gravity = Eigen::Vector3d::Zero();
-  options.gravity[up] = -9.81;
-  options.ground_normal = Eigen::Vector3d::Zero();
-  options.ground_normal[up] = 1.0;
-  options.ground_offset = ground;
-  options.step_tolerance = 1e-4;  // 1e-4 of an edge: far below what a picture or the facts resolve
-  deform::FemState<3> state{mesh.vertices, Eigen::MatrixXd::Zero(mesh.vertex_count(), 3)};
-  const Eigen::MatrixXd targets = mesh.vertices(handles, Eigen::all);
-  for (int step = 1; step <= steps; ++step) {
-    const deform::FemReport r = deform::fem_step<3>(data, state, targets, options);
-    if (!r.error.empty()) throw std::runtime_error("FEM step: " + r.error);
-    d.newton_iterations += r.newton_iterations;
-    d.unconverged += r.converged ? 0 : 1;
-    d.most_inverted = std::max(d.most_inverted, deform::inverted_elements<3>(state.positions, mesh.elements).size());
-  }
-  d.positions = state.positions;
-  const Eigen::MatrixXd points = deform::embedded_positions(d.positions, mesh.elements, embedding);
-  d.surface = figures::moved_surface(input, points);
-  const dim3::SurfaceGenericity g = dim3::check_generic_surface(d.surface, /*keep_pairs=*/true);
-  d.crossing.pairs = g.intersecting_pairs;
-  d.crossing.triangle.assign(d.surface.triangle_count(), false);
-  for (const auto& [i, j] : g.pairs) {
-    d.crossing.triangle[i] = d.crossing.triangle[j] = true;
-    if (held_part[d.surface.triangles[i][0]] != held_part[d.surface.triangles[j][0]]) ++d.held_free_pairs;
-  }
-  d.inverted = deform::inverted_elements<3>(d.positions, mesh.elements).size();
-  std::size_t free_count = 0;
-  for (std::size_t v = 0; v < input.vertices.size(); ++v)
-    if (!held_part[v]) {
-      d.free_drop += input.vertices[v][static_cast<std::size_t>(up)] - points(static_cast<Eigen::Index>(v), up);
-      ++free_count;
-    }
-  if (free_count > 0) d.free_drop /= static_cast<double>(free_count);
-  return d;
-}
-
-std::string row(const std::string& name, const Dropped& d) {
+std::string row(const std::string& name, const figures::Dropped& d) {
   std::ostringstream o;
   o << "| " << name << " | " << d.held << " | " << d.crossing.pairs << " | " << d.held_free_pairs << " | " << d.free_drop
     << " | " << d.inverted << " | " << d.most_inverted << " | " << d.newton_iterations << " (" << d.unconverged << ") |\n";
@@ -144,9 +80,21 @@ int main(int argc, char** argv) {
       }
     const double ground = -4.5, h = args.quick ? 1.0 / 20 : 1.0 / 60;
     const int steps = args.quick ? 24 : 90;  // 1.2 s and 1.5 s: free fall to the ground takes 0.94 s
-    const deform::Material material;  // E = 1e4, nu = 0.3, density 1
-    const Dropped unglued = drop(in.unglued, in.unglued_embedding, input, held, held_part, 2, ground, steps, h, material);
-    const Dropped glued = drop(in.glued.mesh, in.glued_embedding, input, held, held_part, 2, ground, steps, h, material);
+    // E = 1e4, nu = 0.3, density 1; 1e-4 of an edge as Newton's step tolerance: far below what
+    // a picture or the facts resolve.
+    const auto fem_options = [](int up, double ground, double h) {
+      deform::FemOptions o;
+      o.time_step = h;
+      o.gravity = Eigen::Vector3d::Zero();
+      o.gravity[up] = -9.81;
+      o.ground_normal = Eigen::Vector3d::Zero();
+      o.ground_normal[up] = 1.0;
+      o.ground_offset = ground;
+      o.step_tolerance = 1e-4;
+      return o;
+    };
+    const figures::Dropped unglued = figures::drop(in.unglued, in.unglued_embedding, input, held, held_part, fem_options(2, ground, h), steps);
+    const figures::Dropped glued = figures::drop(in.glued.mesh, in.glued_embedding, input, held, held_part, fem_options(2, ground, h), steps);
     std::cout << "pairs between a torus and a cylinder after the drop (exact): unglued " << unglued.held_free_pairs
               << ", glued " << glued.held_free_pairs << "; mean drop of the cylinders: unglued " << unglued.free_drop
               << ", glued " << glued.free_drop << '\n';
@@ -216,10 +164,10 @@ int main(int argc, char** argv) {
         }
       }
       const int real_steps = 6;
-      const Dropped ru = drop(rin.unglued, rin.unglued_embedding, real, plate, in_plate, 1, lowest - 0.5, real_steps,
-                              1.0 / 30, material);
-      const Dropped rg = drop(rin.glued.mesh, rin.glued_embedding, real, plate, in_plate, 1, lowest - 0.5, real_steps,
-                              1.0 / 30, material);
+      const figures::Dropped ru = figures::drop(rin.unglued, rin.unglued_embedding, real, plate, in_plate, fem_options(1, lowest - 0.5, 1.0 / 30),
+                                                real_steps);
+      const figures::Dropped rg = figures::drop(rin.glued.mesh, rin.glued_embedding, real, plate, in_plate, fem_options(1, lowest - 0.5, 1.0 / 30),
+                                                real_steps);
       figures::expect(ru.most_inverted == 0, "quintupleTorus.obj: no tet of the unglued mesh inverts under gravity");
       md << "\n## The paper's quintupleTorus.obj on quintupleTorus.veg\n\n"
          << "- " << real.triangle_count() << " triangles, one genus-5 surface (a plate with 24 colliding arms); unglued "
