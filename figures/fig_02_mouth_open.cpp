@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
     const auto args = figures::parse_args(argc, argv, "fig_02_mouth_open");
     figures::describe("Fig. 2", "our tetrahedral mesh \"unglued\" the input self-intersection, enabling the simulation "
                                 "to successfully open the mouth (a naively glued mesh cannot).");
-    const int n = args.quick ? 16 : 32;
+    const int n = args.quick ? 16 : 24;
     const dim3::Surface input = dim3::head(n);
     const figures::Crossings before = figures::crossings(input);
     figures::expect(before.pairs > 0, "Fig. 2: the lip pierces the chin: the input intersects itself");
@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
     const dim3::Immersed im = dim3::immerse_surface(input, io);
     figures::expect(im.build.complex && !im.search.immersions.empty(), "the head is immersible");
     dim3::MeshOptions options;
-    options.resolution = args.quick ? 12 : 24;
+    options.resolution = args.quick ? 12 : 18;
     const dim3::MeshResult mesh =
         dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
     figures::expect(mesh.report.ok(), mesh.report.summary());
@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
       else if (r > 1.05 && p[2] < kHinge.z() - 0.12) driven.push_back(v);
     }
     const double angle = 60.0 * std::numbers::pi / 180.0;
-    const int swing_steps = args.quick ? 8 : 30, settle_steps = args.quick ? 4 : 15;
+    const int swing_steps = args.quick ? 8 : 20, settle_steps = args.quick ? 4 : 8;
     const Opened unglued = open_mouth(in.unglued, in.unglued_embedding, input, fixed, driven, angle, swing_steps, settle_steps);
     const Opened glued = open_mouth(in.glued.mesh, in.glued_embedding, input, fixed, driven, angle, swing_steps, settle_steps);
     std::cout << "deformed input, self-intersecting triangle pairs (exact): unglued " << unglued.crossing.pairs

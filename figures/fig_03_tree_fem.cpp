@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
     const dim3::Immersed im = dim3::immerse_surface(input, io);
     figures::expect(im.build.complex && !im.search.immersions.empty(), "the tree is immersible");
     dim3::MeshOptions options;
-    options.resolution = args.quick ? 16 : 32;
+    options.resolution = args.quick ? 16 : 24;
     const dim3::MeshResult mesh =
         dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
     figures::expect(mesh.report.ok(), mesh.report.summary());
@@ -73,10 +73,10 @@ int main(int argc, char** argv) {
       if (trunk[v] && input.vertices[v][2] < 0.15) held.push_back(v);
     }
     deform::FemOptions fem;  // E = 1e4, nu = 0.3, density 1
-    fem.time_step = args.quick ? 1.0 / 20 : 1.0 / 60;
+    fem.time_step = args.quick ? 1.0 / 20 : 1.0 / 40;
     fem.gravity = Eigen::Vector3d(4.0, 0.0, -9.81);  // gravity and a steady wind along x
     fem.step_tolerance = 1e-4;  // 1e-4 of an edge: far below what a picture or the facts resolve
-    const int steps = args.quick ? 12 : 36;  // 0.6 s
+    const int steps = args.quick ? 12 : 24;  // 0.6 s
     const figures::Dropped unglued = figures::drop(in.unglued, in.unglued_embedding, input, held, trunk, fem, steps);
     const figures::Dropped glued = figures::drop(in.glued.mesh, in.glued_embedding, input, held, trunk, fem, steps);
     std::cout << "pairs between the trunk and the other branches after the simulation (exact): unglued "

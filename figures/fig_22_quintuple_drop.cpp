@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     figures::describe("Fig. 22 (right)",
                       "we simulate the output mesh using FEM: the mesh is capable of separating all of the collided "
                       "cylinders (a naively glued mesh holds them together).");
-    const int n = args.quick ? 8 : 24;
+    const int n = args.quick ? 8 : 12;
     const dim3::Surface input = dim3::quintuple_torus(n);
     const figures::Crossings before = figures::crossings(input);
     figures::expect(before.pairs > 0, "Fig. 22: the cylinders collide with the tori and each other");
@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     const dim3::Immersed im = dim3::immerse_surface(input, io);
     figures::expect(im.build.complex && !im.search.immersions.empty(), "the quintuple torus is immersible");
     dim3::MeshOptions options;
-    options.resolution = args.quick ? 14 : 32;
+    options.resolution = args.quick ? 14 : 20;
     const dim3::MeshResult mesh =
         dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
     figures::expect(mesh.report.ok(), mesh.report.summary());
@@ -78,8 +78,8 @@ int main(int argc, char** argv) {
         held.push_back(v);
         held_part[v] = true;
       }
-    const double ground = -4.5, h = args.quick ? 1.0 / 20 : 1.0 / 60;
-    const int steps = args.quick ? 24 : 90;  // 1.2 s and 1.5 s: free fall to the ground takes 0.94 s
+    const double ground = -4.5, h = args.quick ? 1.0 / 20 : 1.0 / 30;
+    const int steps = args.quick ? 24 : 36;  // 1.2 s: free fall to the ground takes 0.94 s
     // E = 1e4, nu = 0.3, density 1; 1e-4 of an edge as Newton's step tolerance: far below what
     // a picture or the facts resolve.
     const auto fem_options = [](int up, double ground, double h) {
@@ -163,7 +163,7 @@ int main(int argc, char** argv) {
           in_plate[v] = true;
         }
       }
-      const int real_steps = 6;
+      const int real_steps = 3;
       const figures::Dropped ru = figures::drop(rin.unglued, rin.unglued_embedding, real, plate, in_plate, fem_options(1, lowest - 0.5, 1.0 / 30),
                                                 real_steps);
       const figures::Dropped rg = figures::drop(rin.glued.mesh, rin.glued_embedding, real, plate, in_plate, fem_options(1, lowest - 0.5, 1.0 / 30),
