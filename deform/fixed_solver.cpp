@@ -4,7 +4,7 @@
 
 namespace imm::deform {
 
-bool FixedSolver::compute(const Eigen::SparseMatrix<double>& a, const std::vector<Eigen::Index>& known) {
+bool FixedSolver::compute(const Eigen::SparseMatrix<double>& a, const std::vector<Eigen::Index>& known, FactorUse use) {
   n_ = a.rows();
   known_ = known;
   free_.clear();
@@ -34,18 +34,16 @@ bool FixedSolver::compute(const Eigen::SparseMatrix<double>& a, const std::vecto
   a_ff.setFromTriplets(ff.begin(), ff.end());
   a_fk_.resize(f, static_cast<Eigen::Index>(known_.size()));
   a_fk_.setFromTriplets(fk.begin(), fk.end());
+  factor_.reset();
   if (f == 0) return true;
-  ldlt_ = std::make_shared<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(a_ff);
-  if (ldlt_->info() != Eigen::Success) {
-    error_ = "the system of the free variables could not be factored (numerical issue)";
-    return false;
-  }
+  auto factor = std::make_shared<SparseCholesky>();
   // Callers check that every connected part has a known variable (a semidefinite free block
-  // otherwise); here only a non-positive pivot is refused.
-  if (!(ldlt_->vectorD().minCoeff() > 0.0)) {
+  // otherwise); here only a matrix that is not positive definite is refused.
+  if (!factor->compute(a_ff, use)) {
     error_ = "the system is not positive definite on the free variables";
     return false;
   }
+  factor_ = std::move(factor);
   return true;
 }
 
@@ -56,7 +54,7 @@ Eigen::MatrixXd FixedSolver::solve(const Eigen::MatrixXd& rhs, const Eigen::Matr
   Eigen::MatrixXd b(static_cast<Eigen::Index>(free_.size()), rhs.cols());
   for (std::size_t i = 0; i < free_.size(); ++i) b.row(static_cast<Eigen::Index>(i)) = rhs.row(free_[i]);
   if (!known_.empty()) b -= a_fk_ * known_values;
-  const Eigen::MatrixXd xf = ldlt_->solve(b);
+  const Eigen::MatrixXd xf = factor_->solve(b);
   for (std::size_t i = 0; i < free_.size(); ++i) x.row(free_[i]) = xf.row(static_cast<Eigen::Index>(i));
   return x;
 }

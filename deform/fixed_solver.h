@@ -5,10 +5,11 @@
 #pragma once
 
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "deform/sparse_cholesky.h"
 
 namespace imm::deform {
 
@@ -19,7 +20,8 @@ class FixedSolver {
   /// Factors the free block of `a` (n x n). `known` lists the fixed variables (any order, no
   /// duplicates). Returns false (and `error()` says why) when A_ff is not positive definite,
   /// e.g. a connected part of the mesh without a known variable.
-  bool compute(const Eigen::SparseMatrix<double>& a, const std::vector<Eigen::Index>& known);
+  bool compute(const Eigen::SparseMatrix<double>& a, const std::vector<Eigen::Index>& known,
+               FactorUse use = FactorUse::solve_often);
 
   /// The full solution (n x c): `known_values` (|known| x c, in `known` order) on the known rows,
   /// the minimizer on the free rows. `rhs` is n x c (its known rows are ignored).
@@ -35,7 +37,7 @@ class FixedSolver {
   std::vector<Eigen::Index> known_, free_;
   Eigen::SparseMatrix<double> a_fk_;
   /// Shared (immutable once computed) so that data structs holding a solver can be moved and copied.
-  std::shared_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> ldlt_;
+  std::shared_ptr<const SparseCholesky> factor_;
   std::string error_;
 };
 

@@ -1,0 +1,39 @@
+// One sparse Cholesky factorization behind a small interface, so that only one translation unit
+// sees the backend: CHOLMOD (SuiteSparse, through Eigen's CholmodSupport) when the build found
+// it, Eigen's SimplicialLDLT otherwise. CHOLMOD orders with METIS or AMD, whichever fills less,
+// and its supernodal factorization is several times faster on tet meshes (BENCHMARKS.md,
+// "Deformation"); Eigen's is the fallback that needs nothing installed.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+
+namespace imm::deform {
+
+/// How a factor will be used: factored once and solved with many times (ARAP, the FEM
+/// preconditioner: CHOLMOD's simplicial factor, whose triangular solves are the fastest), or
+/// factored often (the active sets of the weights: CHOLMOD's supernodal factorization).
+enum class FactorUse { solve_often, factor_often };
+
+class SparseCholesky {
+ public:
+  SparseCholesky();
+  ~SparseCholesky();
+  SparseCholesky(SparseCholesky&&) noexcept;
+  SparseCholesky& operator=(SparseCholesky&&) noexcept;
+
+  /// Factors the symmetric matrix `a` (both triangles stored). Returns false when `a` is not
+  /// (numerically) positive definite.
+  bool compute(const Eigen::SparseMatrix<double>& a, FactorUse use = FactorUse::solve_often);
+  /// A^{-1} b for every column of `b`. @pre compute() returned true.
+  [[nodiscard]] Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
+  /// The backend's name, for reports ("CHOLMOD" or "Eigen SimplicialLDLT").
+  [[nodiscard]] static const char* backend();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace imm::deform
