@@ -1,9 +1,9 @@
 #include "deform/fem.h"
 
-#include <Eigen/SparseCholesky>
 #include <cmath>
 
 #include "deform/rotation.h"
+#include "deform/sparse_cholesky.h"
 
 namespace imm::deform {
 
@@ -126,24 +126,19 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
 
   Eigen::MatrixXd gradient;
   Eigen::SparseMatrix<double> hessian(free_count, free_count);
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
-  bool analyzed = false;
+  SparseCholesky factor;
   double objective = potential.value(x);
   for (int iteration = 0; iteration < options.max_newton_iterations; ++iteration) {
     potential.gradient_and_hessian(x, dof, gradient, hessian);
-    if (!analyzed) {
-      ldlt.analyzePattern(hessian);
-      analyzed = true;
-    }
-    ldlt.factorize(hessian);
-    if (ldlt.info() != Eigen::Success) {
+    // A new matrix every iteration: CHOLMOD's supernodal factorization (BENCHMARKS.md).
+    if (!factor.compute(hessian, FactorUse::factor_often)) {
       report.error = "the Newton matrix could not be factored";
       break;
     }
     Eigen::VectorXd rhs(free_count);
     for (std::size_t i = 0; i < dof.size(); ++i)
       if (dof[i] >= 0) rhs[dof[i]] = -gradient(static_cast<Eigen::Index>(i) / D, static_cast<Eigen::Index>(i) % D);
-    const Eigen::VectorXd step = ldlt.solve(rhs);
+    const Eigen::VectorXd step = factor.solve(rhs).col(0);
     Eigen::MatrixXd direction = Eigen::MatrixXd::Zero(x.rows(), D);
     for (std::size_t i = 0; i < dof.size(); ++i)
       if (dof[i] >= 0) direction(static_cast<Eigen::Index>(i) / D, static_cast<Eigen::Index>(i) % D) = step[dof[i]];

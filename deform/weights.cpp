@@ -42,56 +42,83 @@ WeightsResult bounded_biharmonic_weights(const SimplexMesh<D>& mesh, const std::
   const Eigen::SparseMatrix<double> k = stiffness_matrix<D>(mesh);
   const Eigen::VectorXd mass = lumped_mass<D>(mesh);
   const Eigen::SparseMatrix<double> q = Eigen::SparseMatrix<double>(k.transpose() * mass.cwiseInverse().asDiagonal() * k);
-  const Eigen::MatrixXd zero_rhs = Eigen::MatrixXd::Zero(n, 1);
+  const Eigen::MatrixXd zero_rhs = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(handles.size()));
   // Round-off of one solve: weights are O(1), so a value within 1e-10 of a bound is on it.
   constexpr double kRoundOff = 1e-10;
   const double q_scale = q.diagonal().cwiseAbs().maxCoeff();
+
+  // Warm start: the unconstrained biharmonic weights of every handle, one factorization and one
+  // solve with a column per handle. Their bound violations are the first active sets.
+  Eigen::MatrixXd unconstrained;
+  {
+    FixedSolver solver;
+    if (!solver.compute(q, all, FactorUse::factor_often)) {
+      result.error = solver.error();
+      return result;
+    }
+    Eigen::MatrixXd values = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(all.size()), static_cast<Eigen::Index>(handles.size()));
+    for (std::size_t i = 0; i < all.size(); ++i) values(static_cast<Eigen::Index>(i), handle_of[static_cast<std::size_t>(all[i])]) = 1.0;
+    unconstrained = solver.solve(zero_rhs, values);
+  }
 
   result.weights.resize(n, static_cast<Eigen::Index>(handles.size()));
   for (std::size_t h = 0; h < handles.size(); ++h) {
     // Active set: 0 = free, -1 = held at 0, +1 = held at 1 (handles are always known).
     std::vector<signed char> active(static_cast<std::size_t>(n), 0);
-    Eigen::VectorXd w;
+    Eigen::VectorXd w = unconstrained.col(static_cast<Eigen::Index>(h));
     int iteration = 0;
     for (; iteration < options.max_active_set_iterations; ++iteration) {
-      std::vector<Eigen::Index> known = all;
-      for (Eigen::Index v = 0; v < n; ++v)
-        if (active[static_cast<std::size_t>(v)] != 0) known.push_back(v);
-      Eigen::MatrixXd values(static_cast<Eigen::Index>(known.size()), 1);
-      for (std::size_t i = 0; i < known.size(); ++i) {
-        const Eigen::Index v = known[i];
-        const int owner = handle_of[static_cast<std::size_t>(v)];
-        values(static_cast<Eigen::Index>(i), 0) =
-            owner >= 0 ? (owner == static_cast<int>(h) ? 1.0 : 0.0) : (active[static_cast<std::size_t>(v)] > 0 ? 1.0 : 0.0);
-      }
-      FixedSolver solver;
-      if (!solver.compute(q, known)) {
-        result.error = solver.error();
-        return result;
-      }
-      w = solver.solve(zero_rhs, values).col(0);
-      // Add every violated bound; only when none is violated, release the bounds whose
-      // multiplier has the wrong sign (KKT: (Q w)_v >= 0 at a lower bound, <= 0 at an upper).
+      // Add every violated bound of the last solution (the first one: the warm start).
       bool added = false;
       for (Eigen::Index v = 0; v < n; ++v) {
         if (handle_of[static_cast<std::size_t>(v)] >= 0 || active[static_cast<std::size_t>(v)] != 0) continue;
         if (w[v] < -kRoundOff) active[static_cast<std::size_t>(v)] = -1, added = true;
         else if (w[v] > 1.0 + kRoundOff) active[static_cast<std::size_t>(v)] = 1, added = true;
       }
-      if (added) continue;
+      if (iteration > 0 || added) {
+        std::vector<Eigen::Index> known = all;
+        for (Eigen::Index v = 0; v < n; ++v)
+          if (active[static_cast<std::size_t>(v)] != 0) known.push_back(v);
+        Eigen::MatrixXd values(static_cast<Eigen::Index>(known.size()), 1);
+        for (std::size_t i = 0; i < known.size(); ++i) {
+          const Eigen::Index v = known[i];
+          const int owner = handle_of[static_cast<std::size_t>(v)];
+          values(static_cast<Eigen::Index>(i), 0) =
+              owner >= 0 ? (owner == static_cast<int>(h) ? 1.0 : 0.0) : (active[static_cast<std::size_t>(v)] > 0 ? 1.0 : 0.0);
+        }
+        FixedSolver solver;
+        if (!solver.compute(q, known, FactorUse::factor_often)) {
+          result.error = solver.error();
+          return result;
+        }
+        w = solver.solve(zero_rhs.leftCols(1), values).col(0);
+      }  // else: nothing held, and the warm start already is the solution with nothing held
+      bool violated = false;
+      for (Eigen::Index v = 0; v < n && !violated; ++v)
+        violated = handle_of[static_cast<std::size_t>(v)] < 0 && active[static_cast<std::size_t>(v)] == 0 &&
+                   (w[v] < -kRoundOff || w[v] > 1.0 + kRoundOff);
+      if (violated) continue;  // added at the top of the next iteration
+      // Feasible: release the held variables whose multiplier has the wrong sign (KKT: (Q w)_v
+      // >= 0 at a lower bound, <= 0 at an upper one); multipliers below round-off of Q's scale
+      // are zero. All of them at once (libigl's active_set): one factorization per round
+      // instead of one per released variable. After kBulkRounds rounds only the most wrong one
+      // is released, the classic rule that cannot cycle.
+      constexpr int kBulkRounds = 20;
       const Eigen::VectorXd gradient = q * w;
-      // Release the held variable whose multiplier is most wrong (one at a time: releasing several
-      // at once can cycle); multipliers below round-off of Q's scale (weights are O(1)) are zero.
       Eigen::Index worst = -1;
       double worst_value = kRoundOff * q_scale;
+      std::vector<Eigen::Index> wrong;
       for (Eigen::Index v = 0; v < n; ++v) {
         const signed char a = active[static_cast<std::size_t>(v)];
-        const double wrong = a < 0 ? -gradient[v] : a > 0 ? gradient[v] : 0.0;
-        if (wrong > worst_value) worst = v, worst_value = wrong;
+        const double value = a < 0 ? -gradient[v] : a > 0 ? gradient[v] : 0.0;
+        if (value > kRoundOff * q_scale) wrong.push_back(v);
+        if (value > worst_value) worst = v, worst_value = value;
       }
-      const bool released = worst >= 0;
-      if (released) active[static_cast<std::size_t>(worst)] = 0;
-      if (!released) break;
+      if (worst < 0) break;  // KKT point: the minimizer
+      if (iteration < kBulkRounds)
+        for (Eigen::Index v : wrong) active[static_cast<std::size_t>(v)] = 0;
+      else
+        active[static_cast<std::size_t>(worst)] = 0;
     }
     result.active_set_iterations.push_back(iteration + 1);
     // On convergence every free value is inside [0, 1] up to round-off (no violated bound is

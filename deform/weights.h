@@ -17,7 +17,8 @@ struct WeightsOptions {
 
 struct WeightsResult {
   Eigen::MatrixXd weights;  ///< n x (number of handles)
-  /// Active-set iterations per handle (each one refactors the free block).
+  /// Active-set rounds per handle (each but a first one that finds nothing to hold refactors the
+  /// free block; the warm start's factorization, shared by all handles, is not counted).
   std::vector<int> active_set_iterations;
   std::string error;  ///< non-empty: not computed (bad handles, a part of the mesh without a handle)
   [[nodiscard]] bool ok() const { return error.empty(); }
@@ -25,7 +26,9 @@ struct WeightsResult {
 
 /// Bounded biharmonic weights: per handle k, minimize w^T (K M^{-1} K) w (K the stiffness
 /// matrix, M the lumped mass) with w = 1 on handle k's vertices, 0 on the other handles', and
-/// 0 <= w <= 1 elsewhere (a primal active-set method; each iteration one sparse factorization),
+/// 0 <= w <= 1 elsewhere (an active-set method warm-started from the unconstrained biharmonic
+/// weights, adding every violated bound and releasing every wrong-signed multiplier per round,
+/// like libigl's active_set; each round one sparse factorization),
 /// then every row divided by its sum: the partition of unity (libigl's bbw + normalize).
 /// @pre handles non-empty, disjoint vertex sets.
 template <int D>

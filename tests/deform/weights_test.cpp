@@ -3,6 +3,9 @@
 // on the others; heat-method distances on a bar match the exact distance to its end face.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <type_traits>
 
 #include "deform/weights.h"
@@ -47,6 +50,68 @@ TYPED_TEST(Weights, BoundedBiharmonicWeightsAreBoundedPartitionOfUnityAndInterpo
     if (mesh.vertices(v, 0) == 0.0 && mesh.vertices(v, 1) == 1.0 && mesh.vertices.row(v).sum() == 1.0) far = v;
   EXPECT_LT(r.weights(far, 1), 0.2);
   EXPECT_GT(r.weights(far, 2), 0.6);
+}
+
+/// The bounded biharmonic QP of handle `h` solved by an independent method: projected
+/// Gauss-Seidel (exact minimization over one variable at a time, clamped to [0, 1]), which
+/// converges to the minimizer of a convex quadratic over a box. Slow but simple; small meshes only.
+template <int D>
+Eigen::MatrixXd reference_weights(const SimplexMesh<D>& mesh, const std::vector<std::vector<Eigen::Index>>& handles) {
+  const Eigen::SparseMatrix<double> k = stiffness_matrix<D>(mesh);
+  const Eigen::VectorXd mass = lumped_mass<D>(mesh);
+  const Eigen::SparseMatrix<double> q = Eigen::SparseMatrix<double>(k * mass.cwiseInverse().asDiagonal() * k);
+  const Eigen::Index n = mesh.vertex_count();
+  std::vector<int> owner(static_cast<std::size_t>(n), -1);
+  for (std::size_t h = 0; h < handles.size(); ++h)
+    for (Eigen::Index v : handles[h]) owner[static_cast<std::size_t>(v)] = static_cast<int>(h);
+  Eigen::MatrixXd w(n, static_cast<Eigen::Index>(handles.size()));
+  for (std::size_t h = 0; h < handles.size(); ++h) {
+    Eigen::VectorXd x = Eigen::VectorXd::Constant(n, 0.5);
+    for (Eigen::Index v = 0; v < n; ++v)
+      if (owner[static_cast<std::size_t>(v)] >= 0) x[v] = owner[static_cast<std::size_t>(v)] == static_cast<int>(h) ? 1.0 : 0.0;
+    for (int sweep = 0; sweep < 200000; ++sweep) {
+      double change = 0.0;
+      for (Eigen::Index v = 0; v < n; ++v) {
+        if (owner[static_cast<std::size_t>(v)] >= 0) continue;
+        double off = 0.0, diagonal = 0.0;  // q is symmetric: column v is row v
+        for (Eigen::SparseMatrix<double>::InnerIterator it(q, v); it; ++it)
+          if (it.row() == v) diagonal = it.value();
+          else off += it.value() * x[it.row()];
+        const double value = std::clamp(-off / diagonal, 0.0, 1.0);
+        change = std::max(change, std::abs(value - x[v]));
+        x[v] = value;
+      }
+      if (change < 1e-15) break;
+    }
+    w.col(static_cast<Eigen::Index>(h)) = x;
+  }
+  for (Eigen::Index v = 0; v < n; ++v) w.row(v) /= w.row(v).sum();
+  return w;
+}
+
+TYPED_TEST(Weights, BoundedBiharmonicWeightsEqualAnIndependentQpSolution) {
+  constexpr int D = TypeParam::value;
+  // Handles on one side of a thin box: the unconstrained biharmonic weights overshoot [0, 1] far
+  // from them, so bounds are held and released (several active-set rounds).
+  std::array<int, D> cells{};
+  std::array<double, D> size{};
+  cells.fill(D == 2 ? 3 : 2);
+  size.fill(1.0);
+  cells[0] = D == 2 ? 8 : 6;
+  size[0] = 4.0;
+  const SimplexMesh<D> mesh = test::box_grid<D>(cells, size);
+  std::vector<std::vector<Eigen::Index>> handles(3);
+  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) {
+    const double x = mesh.vertices(v, 0), y = mesh.vertices(v, 1);
+    if (x == 0.0 && y == 0.0) handles[0].push_back(v);
+    if (x == 0.0 && y == 1.0) handles[1].push_back(v);
+    if (x == 4.0 && y == 0.0) handles[2].push_back(v);
+  }
+  const WeightsResult r = bounded_biharmonic_weights<D>(mesh, handles);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_GT(*std::max_element(r.active_set_iterations.begin(), r.active_set_iterations.end()), 1);
+  const Eigen::MatrixXd expected = reference_weights<D>(mesh, handles);
+  EXPECT_LT((r.weights - expected).cwiseAbs().maxCoeff(), 1e-7);
 }
 
 TYPED_TEST(Weights, BadHandlesAreRefused) {
