@@ -36,6 +36,7 @@ ArapData<D> arap_precompute(const SimplexMesh<D>& rest, const std::vector<Eigen:
     }
   }
   data.edge_length = mean_edge_length<D>(rest.vertices, rest.elements);
+  for (const ElementGeometry<D>& g : data.geometry) data.volume += g.volume;
   data.pinned = unanchored_components(rest.vertex_count(), rest.elements, handles);
   std::vector<Eigen::Index> known = handles;
   known.insert(known.end(), data.pinned.begin(), data.pinned.end());
@@ -157,11 +158,13 @@ ArapReport arap_solve(const ArapData<D>& data, const Eigen::MatrixXd& handle_tar
     // Converged when the energy fell by at most relative_tolerance of itself per iteration,
     // averaged over the last kStall iterations: single accelerated steps can gain little and
     // the next ones much (the near-flat hinge modes of unglued meshes), so one iteration is
-    // too short a window.
+    // too short a window. A relative criterion never stops an energy that falls to zero (a
+    // mesh whose parts can all move rigidly: the unglued torus of Fig. 24), hence the absolute one.
     constexpr int kStall = 5;
     const int span = std::min(iteration + 1, kStall);
     const double before = report.energies[report.energies.size() - 1 - static_cast<std::size_t>(span)];
-    if (before - energy <= span * options.relative_tolerance * before || step <= step_limit) {
+    if (before - energy <= span * options.relative_tolerance * before || step <= step_limit ||
+        energy <= options.energy_tolerance * data.volume) {
       report.converged = true;
       break;
     }

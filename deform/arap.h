@@ -24,6 +24,7 @@ struct ArapData {
   /// guess puts it (a part nobody pulls stays put, instead of a singular system).
   std::vector<Eigen::Index> pinned;
   double edge_length = 0.0;  ///< mean rest edge length (the unit of ArapOptions::step_tolerance)
+  double volume = 0.0;       ///< total rest volume (the unit of ArapOptions::energy_tolerance)
   FixedSolver solver;  ///< the stiffness matrix, known = handles + pinned, factored
   std::string error;   ///< non-empty: precomputation failed (e.g. a degenerate rest element)
   [[nodiscard]] bool ok() const { return error.empty(); }
@@ -45,6 +46,9 @@ struct ArapOptions {
   /// Anderson acceleration over this many past iterations (0: plain local-global). An
   /// accelerated guess is kept only when it lowers the energy, so the energy never increases.
   int anderson_window = 5;
+  /// Also stop when the energy is at most this times the rest volume (the deformation gradients
+  /// then differ from rotations by ~1e-9 on average): the target is reached rigidly.
+  double energy_tolerance = 1e-18;
 };
 
 struct ArapReport {
