@@ -102,8 +102,10 @@ WeightsResult bounded_biharmonic_weights(const SimplexMesh<D>& mesh, const std::
       // >= 0 at a lower bound, <= 0 at an upper one); multipliers below round-off of Q's scale
       // are zero. All of them at once (libigl's active_set): one factorization per round
       // instead of one per released variable. After kBulkRounds rounds only the most wrong one
-      // is released, the classic rule that cannot cycle.
-      constexpr int kBulkRounds = 20;
+      // is released, the classic rule that cannot cycle. (The rounds shrink an over-held set by
+      // its frontier: the unconstrained solution violates the bounds on more vertices than the
+      // minimizer holds, and only the frontier has wrong-signed multipliers.)
+      constexpr int kBulkRounds = 100;
       const Eigen::VectorXd gradient = q * w;
       Eigen::Index worst = -1;
       double worst_value = kRoundOff * q_scale;
