@@ -689,8 +689,9 @@ class ImmersionSearch {
     std::size_t count = 0;
     const CellId c = ctx_.inner[p];
     ensure_cell(c, st);
+    const RuleContext::CopySlots at = ctx_.copy_slots(c, p);
     for (int n = ctx_.first_node(c).value(); n < ctx_.node_end(c); ++n) {
-      if (st.slot[ctx_.slot(NodeId(n), p)] == kUndecided && representative_[n] == NodeId(n)) {
+      if (st.slot[at.at(NodeId(n))] == kUndecided && representative_[n] == NodeId(n)) {
         ++count;
         if (out) out->push_back(NodeId(n));
         if (touched && touched_[n]) *touched = true;
@@ -705,8 +706,9 @@ class ImmersionSearch {
     std::size_t count = 0;
     if (!other.is_valid()) return count;
     ensure_cell(other, st);
+    const RuleContext::CopySlots at = ctx_.copy_slots(other, p);
     for (int m = ctx_.first_node(other).value(); m < ctx_.node_end(other); ++m) {
-      const std::int32_t v = st.slot[ctx_.slot(NodeId(m), p)];
+      const std::int32_t v = st.slot[at.at(NodeId(m))];
       if ((v == kUndecided || v == kDeclined) && representative_[m] == NodeId(m)) {
         ++count;
         if (out) out->push_back(NodeId(m));
@@ -762,8 +764,9 @@ class ImmersionSearch {
       const CellId other = side == ctx_.inner[p] ? ctx_.outer[p] : ctx_.inner[p];
       std::size_t count = 0;
       bool counted = false;
+      const RuleContext::CopySlots at = ctx_.copy_slots(side, p);
       for (int n = ctx_.first_node(side).value(); n < ctx_.node_end(side) && best > 1; ++n) {
-        if (st.slot[ctx_.slot(NodeId(n), p)] != kDeclined) continue;
+        if (st.slot[at.at(NodeId(n))] != kDeclined) continue;
         if (!counted) {
           count = partner_options(st, p, other, nullptr);  // the same for every n
           counted = true;
@@ -858,7 +861,6 @@ class ImmersionSearch {
   bool scan_variables(const SearchState& st, int group, Variable& best) {
     ties_.clear();
     std::size_t best_key = kNoVariable;
-    const auto value = [&](NodeId n, PatchId p) { return st.slot[ctx_.slot(n, p)]; };
     const auto done = [&] { return best_key <= 1; };
     bool found = false;
     Variable choice;
@@ -881,8 +883,9 @@ class ImmersionSearch {
         const CellId other = side == ctx_.inner[p] ? ctx_.outer[p] : ctx_.inner[p];
         std::size_t count = 0;
         bool counted = false;
+        const RuleContext::CopySlots at = ctx_.copy_slots(side, p);
         for (int n = ctx_.first_node(side).value(); n < ctx_.node_end(side) && !done(); ++n) {
-          if (value(NodeId(n), p) != kDeclined) continue;
+          if (st.slot[at.at(NodeId(n))] != kDeclined) continue;
           if (!counted) {
             count = partner_options(st, p, other, nullptr);  // the same for every n
             counted = true;

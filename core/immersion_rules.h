@@ -116,6 +116,21 @@ class RuleContext {
     const int local = c == inner[p] ? inner_local[p] : outer_local[p];
     return slot_base[n] + local;
   }
+  /// The slots of the copies of cell c at one of its B-patches p: the slots of a node are
+  /// consecutive and the nodes of a cell too, so copy n's slot is start + (n - first) * stride.
+  /// Loops over the copies of a cell read one slot per copy this way, instead of looking up
+  /// per copy its cell, the side of the patch it is on and its first slot (slot()): these loops
+  /// are most of the search's time on piles of overlapping parts (issue 19).
+  struct CopySlots {
+    int start = 0, stride = 0, first = 0;
+    [[nodiscard]] int at(NodeId n) const { return start + (n.value() - first) * stride; }
+  };
+  /// @pre c is one of the two sides of p.
+  [[nodiscard]] CopySlots copy_slots(CellId c, PatchId p) const {
+    const int local = c == inner[p] ? inner_local[p] : outer_local[p];
+    const int first = layout.first(c).value();
+    return CopySlots{slot_base[NodeId(first)] + local, static_cast<int>(b_patches[c].size()), first};
+  }
   /// The nodes of a cell are first(c) .. first(c) + w(c) - 1.
   [[nodiscard]] NodeId first_node(CellId c) const { return layout.first(c); }
   [[nodiscard]] int node_end(CellId c) const { return layout.first(c).value() + winding[c]; }
@@ -526,16 +541,21 @@ inline bool propagate_rule7(StateEditor& ed, PatchId p) {
   const CellId inner = ctx.inner[p];
   const NodeId owner = ed.state().owner[p];
   const Reason why{7, -1};
+  const RuleContext::CopySlots at = ctx.copy_slots(inner, p);
+  const std::vector<std::int32_t>& slot = ed.state().slot;
   if (owner.is_valid()) {
     for (int n = ctx.first_node(inner).value(); n < ctx.node_end(inner); ++n) {
-      if (NodeId(n) != owner && !ed.decline(NodeId(n), p, why)) return false;
+      // decline() of a declined slot does nothing: only undecided copies are handed to it.
+      if (slot[at.at(NodeId(n))] == kUndecided && NodeId(n) != owner && !ed.decline(NodeId(n), p, why)) {
+        return false;
+      }
     }
     return true;
   }
   NodeId candidate;
   int candidates = 0;
   for (int n = ctx.first_node(inner).value(); n < ctx.node_end(inner); ++n) {
-    if (ed.value(NodeId(n), p) == kUndecided) {
+    if (slot[at.at(NodeId(n))] == kUndecided) {
       candidate = NodeId(n);
       ++candidates;
     }
@@ -574,18 +594,21 @@ inline bool propagate_rule7(StateEditor& ed, PatchId p) {
 inline bool propagate_rule2(StateEditor& ed, PatchId p) {
   const RuleContext& ctx = ed.ctx();
   const CellId inner = ctx.inner[p], outer = ctx.outer[p];
+  const std::vector<std::int32_t>& slot = ed.state().slot;
   const auto process_side = [&](CellId side, CellId other) {
     // The possible partners are the same for every declined node of the side: counted once, and
     // again only after an edge was made (which takes one of them).
     NodeId only;
     int options = -1;
+    const RuleContext::CopySlots side_at = ctx.copy_slots(side, p);
     for (int n = ctx.first_node(side).value(); n < ctx.node_end(side); ++n) {
-      if (ed.value(NodeId(n), p) != kDeclined) continue;
+      if (slot[side_at.at(NodeId(n))] != kDeclined) continue;
       if (options < 0) {
         options = 0;
         if (other.is_valid()) {
+          const RuleContext::CopySlots other_at = ctx.copy_slots(other, p);
           for (int m = ctx.first_node(other).value(); m < ctx.node_end(other); ++m) {
-            const std::int32_t v = ed.value(NodeId(m), p);
+            const std::int32_t v = slot[other_at.at(NodeId(m))];
             if (v == kDeclined || v == kUndecided) {
               only = NodeId(m);
               ++options;
@@ -639,15 +662,16 @@ inline bool propagate_sheet_continuation(StateEditor& ed, PatchId p) {
     // after an edge was made (which takes the first of them).
     NodeId first;
     bool symmetric = true, examined = false;
+    const RuleContext::CopySlots side_at = ctx.copy_slots(side, p), other_at = ctx.copy_slots(other, p);
     for (int n = ctx.first_node(side).value(); n < ctx.node_end(side); ++n) {
-      if (ed.value(NodeId(n), p) != kDeclined || is_free(NodeId(n))) continue;
+      if (st.slot[side_at.at(NodeId(n))] != kDeclined || is_free(NodeId(n))) continue;
       if (!examined) {
         examined = true;
         first = NodeId();
         symmetric = true;
         const std::size_t width = ctx.b_patches[other].size();
         for (int m = ctx.first_node(other).value(); m < ctx.node_end(other) && symmetric; ++m) {
-          const std::int32_t v = ed.value(NodeId(m), p);
+          const std::int32_t v = st.slot[other_at.at(NodeId(m))];
           if (v != kDeclined && v != kUndecided) continue;
           if (!is_free(NodeId(m))) {
             symmetric = false;
@@ -723,11 +747,15 @@ inline bool propagate_rule4(StateEditor& ed, ArcId a) {
     if (!ck.is_valid() || !ck1.is_valid()) continue;
     const PatchId pk = arc.patch[k], q = arc.patch[k1], pk2 = arc.patch[k2];
     // Forward direction: along every edge across q.
+    const RuleContext::CopySlots x_q = ctx.copy_slots(ck, q), x_pk = ctx.copy_slots(ck, pk),
+                                 y_pk2 = ctx.copy_slots(ck1, pk2);
+    const std::vector<std::int32_t>& slot = ed.state().slot;
     for (int n = ctx.first_node(ck).value(); n < ctx.node_end(ck); ++n) {
       const NodeId x(n);
-      const NodeId y = ed.partner(x, q);
-      if (!y.is_valid()) continue;
-      const std::int32_t vx = ed.value(x, pk), vy = ed.value(y, pk2);
+      const std::int32_t vq = slot[x_q.at(x)];
+      if (vq < 0) continue;
+      const NodeId y(vq);  // a copy of C_{k+1}, the other side of q
+      const std::int32_t vx = slot[x_pk.at(x)], vy = slot[y_pk2.at(y)];
       if (vx == kUndecided && vy == kUndecided) continue;
       if (vx != kUndecided && vy != kUndecided) {
         if ((vx == kOwned) != (vy == kOwned)) {
@@ -772,17 +800,23 @@ inline bool propagate_rule6(StateEditor& ed, ArcId a) {
     if (!arc.cell[k].is_valid()) return true;  // a wedge of winding 0: no node goes around
   }
   const Reason why{6, a.value()};
+  const std::vector<std::int32_t>& slot = ed.state().slot;
   for (int s = 0; s < 4; ++s) {
     const CellId c0 = arc.cell[s];
+    // x_i is a copy of the cell of wedge s + i; the edge x_i - x_{i+1} crosses P_{s+i+1}.
+    const RuleContext::CopySlots at0 = ctx.copy_slots(c0, arc.patch[(s + 1) % 4]),
+                                 at1 = ctx.copy_slots(arc.cell[(s + 1) % 4], arc.patch[(s + 2) % 4]),
+                                 at2 = ctx.copy_slots(arc.cell[(s + 2) % 4], arc.patch[(s + 3) % 4]),
+                                 at3 = ctx.copy_slots(arc.cell[(s + 3) % 4], arc.patch[s]);
     for (int n = ctx.first_node(c0).value(); n < ctx.node_end(c0); ++n) {
       const NodeId x0(n);
-      const NodeId x1 = ed.partner(x0, arc.patch[(s + 1) % 4]);
-      if (!x1.is_valid()) continue;
-      const NodeId x2 = ed.partner(x1, arc.patch[(s + 2) % 4]);
-      if (!x2.is_valid()) continue;
-      const NodeId x3 = ed.partner(x2, arc.patch[(s + 3) % 4]);
-      if (!x3.is_valid()) continue;
-      if (!ed.connect(x3, x0, arc.patch[s], why)) return false;
+      const std::int32_t v1 = slot[at0.at(x0)];
+      if (v1 < 0) continue;
+      const std::int32_t v2 = slot[at1.at(NodeId(v1))];
+      if (v2 < 0) continue;
+      const std::int32_t v3 = slot[at2.at(NodeId(v2))];
+      if (v3 < 0 || slot[at3.at(NodeId(v3))] == n) continue;  // closed already (edges are mutual)
+      if (!ed.connect(NodeId(v3), x0, arc.patch[s], why)) return false;
     }
   }
   return true;
