@@ -127,10 +127,21 @@ class RuleContext {
   };
   /// @pre c is one of the two sides of p.
   [[nodiscard]] CopySlots copy_slots(CellId c, PatchId p) const {
-    const int local = c == inner[p] ? inner_local[p] : outer_local[p];
-    const int first = layout.first(c).value();
-    return CopySlots{slot_base[NodeId(first)] + local, static_cast<int>(b_patches[c].size()), first};
+    const PatchSlots& ps = patch_slots[p];
+    const CellCopies& cc = cell_copies[c];
+    return CopySlots{c == ps.inner ? ps.inner_start : ps.outer_start, cc.width, cc.first};
   }
+  /// Per patch, its sides and the slot of the first copy of each at the patch (copy_slots).
+  struct PatchSlots {
+    CellId inner, outer;
+    int inner_start = 0, outer_start = 0;
+  };
+  IdMap<PatchId, PatchSlots> patch_slots;
+  /// Per cell, its first node and the number of its B-patches (its nodes' slots each).
+  struct CellCopies {
+    int first = 0, width = 0;
+  };
+  IdMap<CellId, CellCopies> cell_copies;
   /// The nodes of a cell are first(c) .. first(c) + w(c) - 1.
   [[nodiscard]] NodeId first_node(CellId c) const { return layout.first(c); }
   [[nodiscard]] int node_end(CellId c) const { return layout.first(c).value() + winding[c]; }
@@ -247,6 +258,18 @@ RuleContext::RuleContext(const CellComplex<D>& complex) : layout(complex) {
       slot_patch.push_back(p);
     }
   }
+  cell_copies = IdMap<CellId, CellCopies>(cells);
+  for (CellId c : ids<CellId>(cells)) {
+    cell_copies[c] = CellCopies{layout.first(c).value(), static_cast<int>(b_patches[c].size())};
+  }
+  patch_slots = IdMap<PatchId, PatchSlots>(patches);
+  for (PatchId p : ids<PatchId>(patches)) {
+    PatchSlots& ps = patch_slots[p];
+    ps.inner = inner[p];
+    ps.outer = outer[p];
+    ps.inner_start = slot_base[layout.first(inner[p])] + inner_local[p];
+    if (outer[p].is_valid()) ps.outer_start = slot_base[layout.first(outer[p])] + outer_local[p];
+  }
 }
 
 // ---- search state -----------------------------------------------------------------------------
@@ -262,7 +285,8 @@ struct SearchState {
 class Worklist {
  public:
   explicit Worklist(const RuleContext& ctx)
-      : ctx_(&ctx), patch_queued_(ctx.patch_count(), 0), arc_queued_(ctx.arc_count(), 0),
+      : ctx_(&ctx), patch_queued_(ctx.patch_count(), 0), touch_pending_(ctx.patch_count(), 0),
+        arc_queued_(ctx.arc_count(), 0),
         cell_dirty_(ctx.cell_count(), 0) {}
 
   void push_patch(PatchId p) {
@@ -280,6 +304,12 @@ class Worklist {
   /// A slot of p changed: p and every arc with a junction on p must be revisited, and the two
   /// sides of p are recorded as dirty cells (dirty_cells()).
   void touch(PatchId p) {
+    // While p waits in the queue after a touch, nothing that touch queued has been taken out:
+    // arcs are taken only when no patch waits, sheet steps only when no arc waits either, and
+    // the dirty cells are cleared only between propagations. So another touch would change
+    // nothing (patches are touched once per slot change: millions of times on large piles).
+    if (touch_pending_[p.index()]) return;
+    touch_pending_[p.index()] = 1;
     push_patch(p);
     for (ArcId a : ctx_->patch_arcs[p]) push_arc(a);
     if (continue_sheets_) push_sheet(p);
@@ -313,6 +343,7 @@ class Worklist {
   PatchId pop_patch() {
     const PatchId p = patches_[patch_head_++];
     patch_queued_[p.index()] = 0;
+    touch_pending_[p.index()] = 0;
     if (patch_head_ == patches_.size()) patches_.clear(), patch_head_ = 0;
     return p;
   }
@@ -325,7 +356,10 @@ class Worklist {
   void clear() {
     for (PatchId p : sheet_) sheet_queued_[p.index()] = 0;
     sheet_.clear();
-    for (std::size_t i = patch_head_; i < patches_.size(); ++i) patch_queued_[patches_[i].index()] = 0;
+    for (std::size_t i = patch_head_; i < patches_.size(); ++i) {
+      patch_queued_[patches_[i].index()] = 0;
+      touch_pending_[patches_[i].index()] = 0;
+    }
     for (std::size_t i = arc_head_; i < arcs_.size(); ++i) arc_queued_[arcs_[i].index()] = 0;
     patches_.clear();
     arcs_.clear();
@@ -351,7 +385,7 @@ class Worklist {
   std::vector<PatchId> patches_;
   std::vector<ArcId> arcs_;
   std::size_t patch_head_ = 0, arc_head_ = 0;
-  std::vector<char> patch_queued_, arc_queued_;
+  std::vector<char> patch_queued_, touch_pending_, arc_queued_;
   bool continue_sheets_ = false;
   std::vector<PatchId> sheet_;  ///< a stack: the newest sheet is continued first
   std::vector<char> sheet_queued_;
@@ -952,10 +986,15 @@ inline std::optional<Conflict> check_rule4(const RuleContext& ctx, const SearchS
         if (g2.wedge != (g1.wedge + 1) % 4) continue;
         const PatchId q = g1.second, p1 = g1.first, p2 = g2.second;
         IMM_ASSERT(q == g2.first, "adjacent wedges do not share their junction");
+        // The slots of the copies of C1 at q and p1 and of C2 at p2 (Rule 1 holds: a partner
+        // across q is a copy of C2).
+        const RuleContext::CopySlots c1_q = ctx.copy_slots(g1.cell, q), c1_p1 = ctx.copy_slots(g1.cell, p1),
+                                     c2_p2 = ctx.copy_slots(g2.cell, p2);
         for (NodeId c1 : nodes_of(ctx, g1.cell)) {
-          const NodeId c2 = glued(ctx, st, c1, q);
-          if (!c2.is_valid()) continue;
-          if (owns(ctx, st, c1, p1) != owns(ctx, st, c2, p2)) {
+          const std::int32_t v = st.slot[c1_q.at(c1)];
+          if (v < 0) continue;
+          const NodeId c2(v);
+          if ((st.slot[c1_p1.at(c1)] == kOwned) != (st.slot[c2_p2.at(c2)] == kOwned)) {
             const NodeId owner = owns(ctx, st, c1, p1) ? c1 : c2;
             const NodeId other = owner == c1 ? c2 : c1;
             return make_conflict(4, ctx.describe(c1) + " and " + ctx.describe(c2) +
@@ -968,9 +1007,9 @@ inline std::optional<Conflict> check_rule4(const RuleContext& ctx, const SearchS
           }
         }
         for (NodeId c1 : nodes_of(ctx, g1.cell)) {
-          if (!owns(ctx, st, c1, p1)) continue;
+          if (st.slot[c1_p1.at(c1)] != kOwned) continue;
           for (NodeId c2 : nodes_of(ctx, g2.cell)) {
-            if (!owns(ctx, st, c2, p2) || glued(ctx, st, c1, q) == c2) continue;
+            if (st.slot[c2_p2.at(c2)] != kOwned || glued(ctx, st, c1, q) == c2) continue;
             return make_conflict(4, ctx.describe(c1) + " owns patch " + std::to_string(p1.value()) +
                                         " and " + ctx.describe(c2) + " owns patch " +
                                         std::to_string(p2.value()) +
@@ -992,9 +1031,12 @@ inline std::optional<Conflict> check_rule5(const RuleContext& ctx, const SearchS
   for (ArcId a : ids<ArcId>(ctx.arc_count())) {
     if (group >= 0 && ctx.arc_group[a] != group) continue;
     for (const GeometricNeighbors& g : ctx.arc_geometric_neighbors[a]) {
+      const RuleContext::CopySlots at_first = ctx.copy_slots(g.cell, g.first),
+                                   at_second = ctx.copy_slots(g.cell, g.second);
       for (NodeId c : nodes_of(ctx, g.cell)) {
-        for (const auto& [p1, p2] : {std::pair{g.first, g.second}, std::pair{g.second, g.first}}) {
-          if (owns(ctx, st, c, p1) && !is_declined(st.slot[ctx.slot(c, p2)])) {
+        for (const auto& [p1, p2, at1, at2] : {std::tuple{g.first, g.second, at_first, at_second},
+                                               std::tuple{g.second, g.first, at_second, at_first}}) {
+          if (st.slot[at1.at(c)] == kOwned && !is_declined(st.slot[at2.at(c)])) {
             return make_conflict(5, ctx.describe(c) + " owns patch " + std::to_string(p1.value()) +
                                         (p1 == p2 ? ", which is its own geometric neighbour"
                                                   : " and does not decline its geometric neighbour " +
@@ -1024,14 +1066,20 @@ inline std::optional<Conflict> check_rule6(const RuleContext& ctx, const SearchS
     for (int s = 0; s < 4; ++s) {
       // The junction after wedge k is the second patch of its geometric-neighbour pair.
       const auto after = [&](int k) { return around[k % 4]->second; };
+      // The slots of the copies of the cell of wedge s + i at the junction after it.
+      const auto at = [&](int i) { return ctx.copy_slots(around[(s + i) % 4]->cell, after(s + i)); };
+      const RuleContext::CopySlots at0 = at(0), at1 = at(1), at2 = at(2), at3 = at(3);
       for (NodeId c : nodes_of(ctx, around[s]->cell)) {
-        const NodeId d = glued(ctx, st, c, after(s));
-        if (!d.is_valid()) continue;
-        const NodeId e = glued(ctx, st, d, after(s + 1));
-        if (!e.is_valid()) continue;
-        const NodeId f = glued(ctx, st, e, after(s + 2));
-        if (!f.is_valid()) continue;
-        if (glued(ctx, st, f, after(s + 3)) == c) continue;
+        const std::int32_t vd = st.slot[at0.at(c)];
+        if (vd < 0) continue;
+        const NodeId d(vd);
+        const std::int32_t ve = st.slot[at1.at(d)];
+        if (ve < 0) continue;
+        const NodeId e(ve);
+        const std::int32_t vf = st.slot[at2.at(e)];
+        if (vf < 0) continue;
+        const NodeId f(vf);
+        if (st.slot[at3.at(f)] == c.value()) continue;
         return make_conflict(6, ctx.describe(c) + ", " + ctx.describe(d) + ", " + ctx.describe(e) +
                                     " and " + ctx.describe(f) +
                                     " are connected in turn around the arc, but the last is not "
