@@ -98,7 +98,7 @@ void BM_GradedBackground_Comb(benchmark::State& state) {
 }
 BENCHMARK(BM_GradedBackground_Comb)
     ->Args({2, 8, 64, 512})
-    ->Args({8, 8, 64, 512})
+    ->Args({4, 8, 64, 512})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 

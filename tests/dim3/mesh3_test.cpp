@@ -705,8 +705,8 @@ INSTANTIATE_TEST_SUITE_P(
                     Input{"real_two_spheres", "", {}, "3d/two_spheres.stl", 8},
                     Input{"real_self_intersectA", "", {}, "3d/self_intersectA.obj", 16},
                     Input{"real_comb", "", {}, "3d/comb.obj", 24, true, false, false},
-                    // Graded backgrounds (issue 17): far 4, surface 16, gaps 64.
-                    Input{"graded_comb", "comb", {"6"}, "", 4, true, true, true, 16, 64},
+                    // Graded backgrounds (issue 17): far 4, surface 16, gaps 32.
+                    Input{"graded_comb", "comb", {"6"}, "", 4, true, true, true, 16, 32},
                     Input{"graded_mouth", "mouth", {"16"}, "", 4, true, false, true, 16, 32},
                     Input{"graded_two_tori", "two-tori", {"16"}, "", 4, false, true, true, 16, 32}),
     [](const testing::TestParamInfo<Input>& info) { return info.param.label; });
