@@ -204,7 +204,7 @@ TEST(GradedBackground, CombGapsAreRefinedFurther) {
 TEST(GradedBackground, ShiftedAttemptsStayConforming) {
   const Surface s = mouth(16);
   for (int attempt : {0, 1, 2}) {
-    const GradedBackground g = make_graded_background(s, box_of(s), sizes(2, 8, 32), attempt);
+    const GradedBackground g = make_graded_background(s, box_of(s), sizes(2, 8, 16), attempt);
     ASSERT_TRUE(g.report.ok()) << g.report.summary();
     check_conforming(g);
     EXPECT_GE(g.stats.min_dihedral_deg, graded_min_dihedral_bound() - 1e-9);
