@@ -353,15 +353,13 @@ void Builder::refine(const Node& n, const std::vector<std::uint32_t>& candidates
       break;
     }
   bool split = meets && n.level < surface_level_;
-  bool gap = false;
-  if (!split && n.level < gap_level_ && near.size() >= 2) gap = split = several_pieces(near, own);
+  if (!split && n.level < gap_level_ && near.size() >= 2) split = several_pieces(near, own);
   if (!split) {
     leaves_.push_back(n);
     leaf_near_.push_back(static_cast<char>(meets ? 1 : 0));
     if (leaves_.size() > options_.max_tets) too_many();
     return;
   }
-  (void)gap;
   for (const Node& child : bisect(n)) refine(child, near);
 }
 

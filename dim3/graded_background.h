@@ -79,7 +79,7 @@ struct GradedBackground {
 
 /// The smallest dihedral angle, in degrees, of the three tet shapes Kuhn bisection produces (the
 /// Kuhn tet and its two bisection descendants before the cube halves): every graded background
-/// has all its dihedral angles at least this (about 35.26 deg, arctan(1/sqrt 2)).
+/// has all its dihedral angles at least this: 45 degrees (and at most 120).
 double graded_min_dihedral_bound();
 
 /// Builds the graded background of `surface` (its triangles decide the refinement; vertices no
