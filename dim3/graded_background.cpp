@@ -4,12 +4,13 @@
 // Refinement is top-down per base tet with the list of input triangles near it (children filter
 // their parent's list), so the cost follows the surface, not the volume. A tet is bisected while
 //  - it meets an input triangle and it is coarser than the surface size, or
-//  - the triangles meeting its box grown by one element form two or more pieces that are not
-//    connected inside the tet's own box (a near self-intersection: two teeth, two lips, or two
-//    sheets that cross) and it is coarser than the gap size. Connectivity inside the grown box
-//    instead left tets spanning the bottom of the comb's gaps (the teeth join just beyond them):
-//    369 of them on comb(2) at 8/64/512, each then duplicated by the mesher; inside the own box
-//    none, for 3.2x the tets (the refinement also follows sharp edges, within one element).
+//  - it is coarser than the gap size and sits at a near self-intersection (two teeth, two lips,
+//    two sheets that cross): the triangles meeting its box grown by one element form two or more
+//    pieces not joined inside that grown box, or the triangles meeting the tet itself form two
+//    or more pieces not joined inside the tet (the bottom of a comb's gap: the teeth join just
+//    beyond the tet, which would otherwise span the gap). Pieces join through shared vertices
+//    inside, or shared edges meeting, the box or tet. Joining inside the tet's own box for both
+//    refined every tet within one element of any surface (3x the tets on comb 2, 2.5x on a torus).
 // These tests run in doubles on lattice coordinates: they only choose sizes, never topology.
 // Then the closure bisects every tet with a vertex at the midpoint of one of its edges until none
 // has one (repeated sweeps; Maubach's scheme on the Kuhn grid terminates and is conforming).
@@ -268,7 +269,8 @@ class Builder {
   }
   /// Pieces of the triangles `list` connected through edges or vertices inside `box`: more than
   /// one means two parts of the surface come close without joining there.
-  bool several_pieces(const std::vector<std::uint32_t>& list, const DBox& box);
+  bool several_pieces(const std::vector<std::uint32_t>& list, const DBox& box,
+                      const std::array<Point3, 4>* tet = nullptr);
   void refine(const Node& n, const std::vector<std::uint32_t>& candidates);
   void too_many();
 
@@ -295,7 +297,18 @@ void Builder::too_many() {
                    {}, {}, {}});
 }
 
-bool Builder::several_pieces(const std::vector<std::uint32_t>& list, const DBox& box) {
+bool Builder::several_pieces(const std::vector<std::uint32_t>& list, const DBox& box,
+                             const std::array<Point3, 4>* tet) {
+  // Inside `tet` when given (a point or a segment as a flat triangle: the separating axes stay
+  // right), else inside `box`.
+  const auto vertex_inside = [&](std::uint32_t v) {
+    const Point3& p = tri_points_[v];
+    return tet != nullptr ? triangle_meets_tet({p, p, p}, *tet) : point_in_box(p, box);
+  };
+  const auto edge_inside = [&](std::uint32_t a, std::uint32_t b) {
+    return tet != nullptr ? triangle_meets_tet({tri_points_[a], tri_points_[b], tri_points_[b]}, *tet)
+                          : segment_meets_box(tri_points_[a], tri_points_[b], box);
+  };
   if (list.size() < 2) return false;
   UnionFind pieces(list.size());
   std::vector<std::pair<std::uint32_t, std::uint32_t>> at_vertex;  // (vertex, local triangle)
@@ -311,7 +324,7 @@ bool Builder::several_pieces(const std::vector<std::uint32_t>& list, const DBox&
   std::sort(at_vertex.begin(), at_vertex.end());
   for (std::size_t i = 0, j = 0; i < at_vertex.size(); i = j) {
     for (j = i + 1; j < at_vertex.size() && at_vertex[j].first == at_vertex[i].first;) ++j;
-    if (j - i < 2 || !point_in_box(tri_points_[at_vertex[i].first], box)) continue;
+    if (j - i < 2 || !vertex_inside(at_vertex[i].first)) continue;
     for (std::size_t k = i + 1; k < j; ++k) pieces.unite(at_vertex[i].second, at_vertex[k].second);
   }
   std::sort(at_edge.begin(), at_edge.end());
@@ -320,7 +333,7 @@ bool Builder::several_pieces(const std::vector<std::uint32_t>& list, const DBox&
     if (j - i < 2) continue;
     const auto a = static_cast<std::uint32_t>(at_edge[i].first >> 32);
     const auto b = static_cast<std::uint32_t>(at_edge[i].first & 0xffffffffu);
-    if (!segment_meets_box(tri_points_[a], tri_points_[b], box)) continue;
+    if (!edge_inside(a, b)) continue;
     for (std::size_t k = i + 1; k < j; ++k) pieces.unite(at_edge[i].second, at_edge[k].second);
   }
   const std::size_t root = pieces.find(0);
@@ -346,14 +359,16 @@ void Builder::refine(const Node& n, const std::vector<std::uint32_t>& candidates
   std::array<Point3, 4> corners;
   for (int i = 0; i < 4; ++i)
     for (int d = 0; d < 3; ++d) corners[i][d] = static_cast<double>(points_[n.v[i]][d]);
-  bool meets = false;
+  std::vector<std::uint32_t> touching;
   for (std::uint32_t t : near)
-    if (boxes_meet(tri_boxes_[t], own) && triangle_meets_tet(triangle(t), corners)) {
-      meets = true;
-      break;
-    }
+    if (boxes_meet(tri_boxes_[t], own) && triangle_meets_tet(triangle(t), corners)) touching.push_back(t);
+  const bool meets = !touching.empty();
   bool split = meets && n.level < surface_level_;
-  if (!split && n.level < gap_level_ && near.size() >= 2) split = several_pieces(near, own);
+  // Near self-intersection: pieces within one element that do not join within one element, or
+  // pieces the tet itself meets that do not join inside it (the bottom of a gap, where the teeth
+  // join just beyond the tet).
+  if (!split && n.level < gap_level_ && near.size() >= 2)
+    split = several_pieces(near, grown) || (touching.size() >= 2 && several_pieces(touching, own, &corners));
   if (!split) {
     leaves_.push_back(n);
     leaf_near_.push_back(static_cast<char>(meets ? 1 : 0));
