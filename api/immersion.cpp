@@ -443,6 +443,21 @@ SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& opt
     o.background_path = options.background;
     o.method = method_of(options.method);
     o.threads = options.threads;
+    if (options.gap_resolution && !options.surface_resolution)
+      throw Error(ErrorKind::InvalidInput, "gap_resolution needs surface_resolution");
+    if (options.surface_resolution) {
+      if (options.background || options.conforming)
+        throw Error(ErrorKind::InvalidInput, "surface_resolution (a graded background) excludes background and conforming");
+      imm::dim3::GradedOptions graded;
+      graded.far_resolution = options.resolution.value_or(8);
+      graded.surface_resolution = *options.surface_resolution;
+      graded.gap_resolution = options.gap_resolution.value_or(0);
+      if (graded.far_resolution < 1 || graded.surface_resolution < graded.far_resolution ||
+          (graded.gap_resolution != 0 && graded.gap_resolution < graded.surface_resolution))
+        throw Error(ErrorKind::InvalidInput,
+                    "graded background: need 1 <= resolution <= surface_resolution <= gap_resolution");
+      o.graded = graded;
+    }
     const imm::dim3::Immersed& im = found.data_->immersed;
     if (options.conforming) return mesh_conforming3(found, options, o.resolution, name);
     imm::dim3::MeshResult m = imm::dim3::mesh_immersion(

@@ -201,7 +201,8 @@ std::vector<CommandSpec> make_command_specs() {
   CommandSpec mesh;
   mesh.name = "mesh";
   mesh.usage =
-      "mesh IN [--resolution N | --background FILE] [--conforming [--edge-length H] [--radius-edge R]\n"
+      "mesh IN [--resolution N [--surface-resolution M [--gap-resolution G]] | --background FILE]\n"
+      "                   [--conforming [--edge-length H] [--radius-edge R]\n"
       "                   [--min-dihedral DEG]]\n"
       "                   [--immersion K | --all] [--method clip|csg] [-o OUT] [--embedding OUT.emb]\n"
       "                   [--svg OUT.svg] [--threads N] [--json OUT]";
@@ -216,6 +217,16 @@ std::vector<CommandSpec> make_command_specs() {
        "each) along the longest side of the input's box (at most 150; default 16); the grid is shifted "
        "and retried when it touches the input non-generically",
        1, 100'000},
+      {"--surface-resolution", ValueKind::Integer, "M",
+       "(3D) a graded background instead of the uniform grid: the Kuhn grid refined by conforming bisection "
+       "to cubes of side (longest side / M) where it meets the input, --resolution (default 8) far from it "
+       "(rounded to a power-of-two multiple of the surface side); its minimum dihedral angle is reported",
+       1, 4096},
+      {"--gap-resolution", ValueKind::Integer, "G",
+       "(3D, with --surface-resolution) finer cubes (longest side / G, rounded to a power-of-two fraction of "
+       "the surface side) where two separate pieces of the input come within about one element: near "
+       "self-intersections such as the comb's teeth or the lips of a mouth",
+       1, 16384},
       {"--background", ValueKind::Text, "FILE",
        "a background mesh instead of the grid: 2D a Medit .mesh (Dimension 2); 3D Vega .veg, Medit "
        ".mesh, TetGen .node/.ele, Gmsh .msh 4.1 (it must cover the input and meet it generically, else exit 2)"},
@@ -967,6 +978,15 @@ int command_mesh(Session& s, const CommandLine& cl) {
   if (cl.has("--resolution") && cl.has("--background")) {
     return usage_error(env, "mesh", "--resolution and --background exclude each other");
   }
+  if (cl.has("--surface-resolution") && cl.has("--background")) {
+    return usage_error(env, "mesh", "--surface-resolution and --background exclude each other");
+  }
+  if (cl.has("--gap-resolution") && !cl.has("--surface-resolution")) {
+    return usage_error(env, "mesh", "--gap-resolution needs --surface-resolution");
+  }
+  if (cl.has("--surface-resolution") && cl.has("--conforming")) {
+    return usage_error(env, "mesh", "--surface-resolution is for the background mesher, not --conforming");
+  }
   if (auto n = cl.integer("--resolution")) options.resolution = static_cast<int>(*n);
   if (auto v = cl.value("--background")) options.background_path = *v;
   options.conforming = cl.has("--conforming");
@@ -994,6 +1014,21 @@ int command_mesh(Session& s, const CommandLine& cl) {
       }
       options3.resolution = options.resolution;
     }
+    if (auto m = cl.integer("--surface-resolution")) {
+      // Graded: --resolution is the far size; sizes only grow finer toward the surface and gaps.
+      dim3::GradedOptions graded;
+      graded.far_resolution = cl.has("--resolution") ? options.resolution : 8;
+      graded.surface_resolution = static_cast<int>(*m);
+      graded.gap_resolution = static_cast<int>(cl.integer("--gap-resolution").value_or(0));
+      if (graded.surface_resolution < graded.far_resolution)
+        return usage_error(env, "mesh", "--surface-resolution " + std::to_string(graded.surface_resolution) +
+                                            " is coarser than --resolution " + std::to_string(graded.far_resolution));
+      if (graded.gap_resolution != 0 && graded.gap_resolution < graded.surface_resolution)
+        return usage_error(env, "mesh", "--gap-resolution " + std::to_string(graded.gap_resolution) +
+                                            " is coarser than --surface-resolution " +
+                                            std::to_string(graded.surface_resolution));
+      options3.graded = graded;
+    }
     if (auto n = cl.integer("--threads")) options3.threads = static_cast<unsigned>(*n);
     if (all && cl.has("--immersion")) return usage_error(env, "mesh", "--all and --immersion exclude each other");
     if (!options.conforming) return mesh_surface(s, cl, request, options3, k, all);
@@ -1002,7 +1037,8 @@ int command_mesh(Session& s, const CommandLine& cl) {
     if (const std::string error = parse_conforming3(cl, conforming); !error.empty()) return usage_error(env, "mesh", error);
     return mesh_surface(s, cl, request, options3, k, all, &conforming);
   }
-  for (const char* option : {"--all", "--threads", "--no-helper-boxes", "--edge-length", "--radius-edge", "--min-dihedral"})
+  for (const char* option : {"--all", "--threads", "--no-helper-boxes", "--edge-length", "--radius-edge", "--min-dihedral",
+                             "--surface-resolution", "--gap-resolution"})
     if (cl.has(option)) return usage_error(env, "mesh", std::string(option) + " is for 3D surfaces only");
 
   s.enable_summary();

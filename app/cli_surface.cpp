@@ -10,9 +10,11 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -449,6 +451,16 @@ std::string format_tet_mesh(const std::string& path, const dim3::TetMesh& mesh) 
   return dim3::format_medit_3d(mesh);
 }
 
+/// ", graded: cubes S at the surface, G at gaps, F far, min dihedral D deg" for the summary line.
+std::string graded_summary(const dim3::GradedStats& g) {
+  if (g.tets == 0) return {};
+  std::ostringstream os;
+  os << std::setprecision(4) << ", graded: cubes " << g.surface_size << " at the surface";
+  if (g.gap_size < g.surface_size) os << ", " << g.gap_size << " at gaps";
+  os << ", " << g.far_size << " far, min dihedral " << g.min_dihedral_deg << " deg";
+  return os.str();
+}
+
 Json mesh3_json(const dim3::MeshResult& m, std::size_t k, const Immersion& immersion) {
   Json j = Json::object();
   j["immersion"] = k;
@@ -470,6 +482,22 @@ Json mesh3_json(const dim3::MeshResult& m, std::size_t k, const Immersion& immer
   c["graph_nodes"] = immersion.layout.node_count();
   Json& per_cell = (c["copies_per_cell"] = Json::array());
   for (std::size_t n : m.stats.copies_per_cell) per_cell.emplace_back(n);
+  if (m.stats.graded.tets > 0) {
+    const dim3::GradedStats& g = m.stats.graded;
+    Json& b = (j["graded_background"] = Json::object());
+    b["far_size"] = g.far_size;
+    b["surface_size"] = g.surface_size;
+    b["gap_size"] = g.gap_size;
+    b["base_tets"] = g.base_tets;
+    b["tets"] = g.tets;
+    b["vertices"] = g.vertices;
+    b["surface_tets"] = g.surface_tets;
+    b["gap_tets"] = g.gap_tets;
+    b["closure_bisections"] = g.closure_bisections;
+    b["min_dihedral_deg"] = g.min_dihedral_deg;
+    b["max_dihedral_deg"] = g.max_dihedral_deg;
+    b["min_dihedral_bound_deg"] = dim3::graded_min_dihedral_bound();
+  }
   j["input_shift"] = point_json(m.stats.input_shift);
   Json& phases = (j["mesh_phases_ms"] = Json::object());
   phases["background"] = m.stats.seconds_background * 1e3;
@@ -627,7 +655,10 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   report["immersions_found"] = r.immersions.size();
   report["helper_boxes"] = helper_boxes_json(im);
   Json& o = (report["options"] = Json::object());
-  o["resolution"] = options.background_path ? Json() : Json(options.resolution);
+  o["resolution"] = options.background_path ? Json() : Json(options.graded ? options.graded->far_resolution : options.resolution);
+  o["surface_resolution"] = options.graded ? Json(options.graded->surface_resolution) : Json();
+  o["gap_resolution"] =
+      options.graded && options.graded->gap_resolution > 0 ? Json(options.graded->gap_resolution) : Json();
   o["background"] = options.background_path ? Json(*options.background_path) : Json();
   o["threads"] = options.threads;
   o["method"] = options.method == MeshMethod::Csg ? "csg" : "clip";
@@ -697,7 +728,9 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
     warn_embedding_error(s, m.stats.embedding_error);
     s.out() << describe_input(p) << ": immersion " << i << " of " << r.immersions.size() << (r.complete ? "" : "+")
             << " meshed: " << plural(m.stats.output_tets, "tet") << ", " << plural(m.stats.output_vertices, "vertex", "vertices")
-            << " (background " << plural(m.stats.background_tets, "tet") << ", " << m.stats.cut_tets
+            << " (background " << plural(m.stats.background_tets, "tet")
+            << graded_summary(m.stats.graded)
+            << ", " << m.stats.cut_tets
             << " cut by the input" << (m.stats.helper_tets > 0 ? ", " + std::to_string(m.stats.helper_tets) + " helper-box tets dropped" : "")
             << ")\n";
     Json entry = mesh3_json(m, i, r.immersions[i]);

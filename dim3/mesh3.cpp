@@ -205,7 +205,15 @@ MeshResult mesh_immersion(const Complex& complex, const Immersion& immersion, co
   for (int attempt = 0;; ++attempt) {
     start = std::chrono::steady_clock::now();
     Point3 shift{0, 0, 0};
-    if (!options.background_path) {
+    if (options.graded) {
+      GradedBackground graded = make_graded_background(complex.surface, box, *options.graded, attempt);
+      if (!graded.report.ok()) {
+        result.report = std::move(graded.report);
+        return result;
+      }
+      result.background = std::move(graded.mesh);
+      result.stats.graded = graded.stats;
+    } else if (!options.background_path) {
       result.background = make_grid_background(box, options.resolution, attempt);
     } else if (attempt > 0) {
       const double step = std::ldexp(diagonal, -32) * attempt;

@@ -15,6 +15,7 @@
 #include "core/immersion_graph.h"
 #include "core/unglue.h"
 #include "dim3/complex3.h"
+#include "dim3/graded_background.h"
 #include "dim3/tet_mesh.h"
 
 namespace imm::dim3 {
@@ -24,6 +25,9 @@ struct MeshOptions {
   int resolution = 16;
   /// Use this background mesh (.veg, .mesh, .node/.ele) instead of generating one.
   std::optional<std::string> background_path;
+  /// Generate a graded background (dim3/graded_background.h) instead of the uniform grid;
+  /// `resolution` is then unused.
+  std::optional<GradedOptions> graded;
   /// Fill MeshResult::contents (what every output tet holds; for tests and diagnostics).
   bool record_contents = false;
   /// Threads for the virtual tets, clipping or CSG (0 = all cores). The output is identical for
@@ -70,6 +74,7 @@ struct MeshStats {
   /// far larger than the input can pass it (the program then warns).
   double embedding_error = 0.0;
   std::vector<std::size_t> copies_per_cell;  ///< output tets per cell (by CellId)
+  GradedStats graded;  ///< sizes and quality of the graded background (MeshOptions::graded)
   double seconds_background = 0.0;
   double seconds_virtual = 0.0;   ///< clipping, pieces, local regions
   double seconds_assembly = 0.0;  ///< atoms, fusion, union-find, outputs

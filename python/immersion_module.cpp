@@ -309,17 +309,21 @@ PYBIND11_MODULE(immersion, m) {
       "mesh_immersion",
       [](const immersion::Immersions<3>& found, std::size_t immersion, std::optional<int> resolution,
          std::optional<std::string> background, const std::string& method, unsigned threads, bool conforming,
-         std::optional<double> edge_length, double radius_edge, double min_dihedral) {
+         std::optional<double> edge_length, double radius_edge, double min_dihedral,
+         std::optional<int> surface_resolution, std::optional<int> gap_resolution) {
         immersion::MeshOptions o =
             mesh_options(immersion, resolution, std::move(background), conforming, method, threads);
         o.edge_length = edge_length;
         o.radius_edge = radius_edge;
         o.min_dihedral = min_dihedral;
+        o.surface_resolution = surface_resolution;
+        o.gap_resolution = gap_resolution;
         return immersion::mesh_immersion(found, o);
       },
       arg("immersions"), arg("immersion") = 0, arg("resolution") = py::none(), arg("background") = py::none(),
       arg("method") = "clip", arg("threads") = 0, arg("conforming") = false, arg("edge_length") = py::none(),
-      arg("radius_edge") = 2.0, arg("min_dihedral") = 0.0, release,
+      arg("radius_edge") = 2.0, arg("min_dihedral") = 0.0, arg("surface_resolution") = py::none(),
+      arg("gap_resolution") = py::none(), release,
       "Meshes one immersion (paper §7): a Mesh3 with V, T, node, embedding.");
   m.def(
       "mesh_immersion",

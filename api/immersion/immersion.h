@@ -204,6 +204,13 @@ struct MeshOptions {
   std::optional<int> resolution;
   /// A background mesh file instead (2D: Medit .mesh; 3D: .veg, .mesh, .node/.ele, .msh).
   std::optional<std::string> background;
+  /// 3D: a graded background instead of the uniform grid (`mesh --surface-resolution M
+  /// [--gap-resolution G]`, issue 17): the Kuhn grid refined by conforming bisection to cubes of
+  /// side longest / M where it meets the input and longest / G where two separate pieces of the
+  /// input come within about one element; `resolution` (default 8) is then the size far away.
+  /// Excludes `background` and `conforming`; M >= resolution, G >= M.
+  std::optional<int> surface_resolution;
+  std::optional<int> gap_resolution;
   /// Elements never cut by the input: 2D constrained triangles; 3D TetGen tets whose boundary
   /// faces are the cut triangles (`mesh --conforming`). Excludes `background` and Csg.
   bool conforming = false;

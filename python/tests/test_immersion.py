@@ -236,6 +236,19 @@ class Arrays3D(Fixture):
         elements = [int(r.split()[0]) for r in rows if r.strip()]
         self.assertEqual(elements, mesh.embedding_element.tolist())
 
+    def test_graded_mesh_is_the_programs_byte_for_byte(self):
+        path = self.generate("two-spheres", "8")
+        found = immersion.find_immersions(immersion.read_surface(path))
+        mesh = immersion.mesh_immersion(found, resolution=2, surface_resolution=8, gap_resolution=16)
+        mesh.write(self.path("py_graded.mesh"))
+        cli = run_immerse("mesh", path, "--resolution", "2", "--surface-resolution", "8",
+                          "--gap-resolution", "16", "-o", self.path("cli_graded.mesh"))
+        self.assertEqual(cli.returncode, 0, cli.stderr)
+        with open(self.path("py_graded.mesh"), "rb") as a, open(self.path("cli_graded.mesh"), "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        with self.assertRaises(immersion.InvalidInput):
+            immersion.mesh_immersion(found, surface_resolution=8, background=self.path("x.veg"))
+
     def test_conforming_mesh_is_the_programs_byte_for_byte(self):
         path = self.generate("two-spheres", "8")
         found = immersion.find_immersions(immersion.read_surface(path))

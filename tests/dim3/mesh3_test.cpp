@@ -619,6 +619,9 @@ struct Input {
   bool separation = false;     ///< at least 10 pairs on different sheets are expected
   bool deterministic = false;  ///< mesh twice (and build twice) and compare
   bool inside = true;          ///< some uncut background tet lies inside (false: too thin for the grid)
+  /// Graded background (issue 17): `resolution` far, these at the surface and at gaps (0: grid).
+  int surface_resolution = 0;
+  int gap_resolution = 0;
 };
 
 std::ostream& operator<<(std::ostream& os, const Input& in) { return os << in.label; }
@@ -650,7 +653,15 @@ TEST_P(Mesh3Invariants, OutputSatisfiesInvariants) {
   if (skip) GTEST_SKIP() << in.file << " not present";
   MeshOptions options;
   options.resolution = in.resolution;
+  if (in.surface_resolution > 0) {
+    GradedOptions graded;
+    graded.far_resolution = in.resolution;
+    graded.surface_resolution = in.surface_resolution;
+    graded.gap_resolution = in.gap_resolution;
+    options.graded = graded;
+  }
   const Meshed m = mesh_surface(surface, options);
+  if (in.surface_resolution > 0) EXPECT_GT(m.mesh.stats.graded.tets, 0u);
   ASSERT_FALSE(m.im.search.immersions.empty());
   check_invariants(m, in.inside);
   // Every input: crossings and near contacts; where `separation` is set, enough of them.
@@ -693,7 +704,11 @@ INSTANTIATE_TEST_SUITE_P(
                     Input{"real_TinyTorus", "", {}, "3d/TinyTorus.obj", 16},
                     Input{"real_two_spheres", "", {}, "3d/two_spheres.stl", 8},
                     Input{"real_self_intersectA", "", {}, "3d/self_intersectA.obj", 16},
-                    Input{"real_comb", "", {}, "3d/comb.obj", 24, true, false, false}),
+                    Input{"real_comb", "", {}, "3d/comb.obj", 24, true, false, false},
+                    // Graded backgrounds (issue 17): far 4, surface 16, gaps 32.
+                    Input{"graded_comb", "comb", {"6"}, "", 4, true, true, true, 16, 32},
+                    Input{"graded_mouth", "mouth", {"16"}, "", 4, true, false, true, 16, 32},
+                    Input{"graded_two_tori", "two-tori", {"16"}, "", 4, false, true, true, 16, 32}),
     [](const testing::TestParamInfo<Input>& info) { return info.param.label; });
 
 // ---- the checkers themselves ----------------------------------------------------------------
