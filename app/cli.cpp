@@ -211,37 +211,8 @@ std::vector<CommandSpec> make_command_specs() {
       "Meshes one immersion of IN (paper §7): a background mesh, virtual elements where the input cuts\n"
       "an element (exact clipping), one copy per graph node, copies fused across graph edges, so that\n"
       "overlapping and nearly touching parts are not glued. 2D (curves): triangles. 3D (surfaces): tets.\n";
-  mesh.options = {
-      {"--resolution", ValueKind::Integer, "N",
-       "2D: background edges across the bounding-box diagonal (default 24). 3D: grid cubes (6 Kuhn tets "
-       "each) along the longest side of the input's box (at most 150; default 16); the grid is shifted "
-       "and retried when it touches the input non-generically",
-       1, 100'000},
-      {"--surface-resolution", ValueKind::Integer, "M",
-       "(3D) a graded background instead of the uniform grid: the Kuhn grid refined by conforming bisection "
-       "to cubes of side (longest side / M) where it meets the input, --resolution (default 8) far from it "
-       "(rounded to a power-of-two multiple of the surface side); its minimum dihedral angle is reported",
-       1, 4096},
-      {"--gap-resolution", ValueKind::Integer, "G",
-       "(3D, with --surface-resolution) finer cubes (longest side / G, rounded to a power-of-two fraction of "
-       "the surface side) where two separate pieces of the input come within about one element: near "
-       "self-intersections such as the comb's teeth or the lips of a mouth",
-       1, 16384},
-      {"--background", ValueKind::Text, "FILE",
-       "a background mesh instead of the grid: 2D a Medit .mesh (Dimension 2); 3D Vega .veg, Medit "
-       ".mesh, TetGen .node/.ele, Gmsh .msh 4.1 (it must cover the input and meet it generically, else exit 2)"},
-      {"--conforming", ValueKind::Flag, "",
-       "insert the input as constraints: 2D, no triangle is cut by the curve; 3D, TetGen's constrained Delaunay "
-       "tets whose boundary faces are exactly the input triangles cut along the intersection curves (no "
-       "background, no virtual tets; each input vertex is an output vertex)"},
-      {"--edge-length", ValueKind::Real, "H",
-       "(3D --conforming) target edge length inside the cells (TetGen volume bound of the regular tet of edge H; "
-       "default: longest side of the input's box / resolution)"},
-      {"--radius-edge", ValueKind::Real, "R",
-       "(3D --conforming) radius-edge ratio bound of TetGen's quality refinement, >= 1 (default 2)"},
-      {"--min-dihedral", ValueKind::Real, "DEG",
-       "(3D --conforming) minimum dihedral angle TetGen aims for, up to 30 degrees (default none; slivers on the "
-       "preserved surface may stay: the JSON counts them)"},
+  mesh.options = mesh_choice_options(true);
+  mesh.options.insert(mesh.options.end(), {
       {"--immersion", ValueKind::Integer, "K", "which immersion (0-based, in the search's order; default 0)", 0,
        1'000'000},
       {"--all", ValueKind::Flag, "", "(3D) mesh every immersion: OUT_K.ext and OUT_K.emb for immersion K"},
@@ -264,7 +235,7 @@ std::vector<CommandSpec> make_command_specs() {
       {"--max-states", ValueKind::Integer, "N", "search budget in explored states (as for 'immerse immersions')", 1},
       {"--time-limit", ValueKind::Real, "S", "search budget in seconds (as for 'immerse immersions')"},
       {"--max-output", ValueKind::Integer, "BYTES", "output budget: bytes in all files written (default 4 GiB)", 1},
-  };
+  });
   mesh.options.push_back({"--repair-folds", ValueKind::Real, "MAX",
        "(3D) local folds (a vertex whose star crosses itself) are repaired instead of refused (exit 3): "
        "fold vertices move toward their ring's centroid by at most MAX each, every move is reported"});
@@ -799,6 +770,100 @@ int command_cells(Session& s, const CommandLine& cl) {
 }
 
 /// --all / --max / --max-states / --time-limit. @return a usage error message, or empty.
+}  // namespace
+
+std::vector<OptionSpec> mesh_choice_options(bool full_help) {
+  if (full_help) {
+    return {
+      {"--resolution", ValueKind::Integer, "N",
+       "2D: background edges across the bounding-box diagonal (default 24). 3D: grid cubes (6 Kuhn tets "
+       "each) along the longest side of the input's box (at most 150; default 16); the grid is shifted "
+       "and retried when it touches the input non-generically",
+       1, 100'000},
+      {"--surface-resolution", ValueKind::Integer, "M",
+       "(3D) a graded background instead of the uniform grid: the Kuhn grid refined by conforming bisection "
+       "to cubes of side (longest side / M) where it meets the input, --resolution (default 8) far from it "
+       "(rounded to a power-of-two multiple of the surface side); its minimum dihedral angle is reported",
+       1, 4096},
+      {"--gap-resolution", ValueKind::Integer, "G",
+       "(3D, with --surface-resolution) finer cubes (longest side / G, rounded to a power-of-two fraction of "
+       "the surface side) where two separate pieces of the input come within about one element: near "
+       "self-intersections such as the comb's teeth or the lips of a mouth",
+       1, 16384},
+      {"--background", ValueKind::Text, "FILE",
+       "a background mesh instead of the grid: 2D a Medit .mesh (Dimension 2); 3D Vega .veg, Medit "
+       ".mesh, TetGen .node/.ele, Gmsh .msh 4.1 (it must cover the input and meet it generically, else exit 2)"},
+      {"--conforming", ValueKind::Flag, "",
+       "insert the input as constraints: 2D, no triangle is cut by the curve; 3D, TetGen's constrained Delaunay "
+       "tets whose boundary faces are exactly the input triangles cut along the intersection curves (no "
+       "background, no virtual tets; each input vertex is an output vertex)"},
+      {"--edge-length", ValueKind::Real, "H",
+       "(3D --conforming) target edge length inside the cells (TetGen volume bound of the regular tet of edge H; "
+       "default: longest side of the input's box / resolution)"},
+      {"--radius-edge", ValueKind::Real, "R",
+       "(3D --conforming) radius-edge ratio bound of TetGen's quality refinement, >= 1 (default 2)"},
+      {"--min-dihedral", ValueKind::Real, "DEG",
+       "(3D --conforming) minimum dihedral angle TetGen aims for, up to 30 degrees (default none; slivers on the "
+       "preserved surface may stay: the JSON counts them)"},
+    };
+  }
+  const std::string same = "as for 'immerse mesh'";
+  return {
+      {"--resolution", ValueKind::Integer, "N", same, 1, 100'000},
+      {"--surface-resolution", ValueKind::Integer, "M", "(3D) a graded background, " + same, 1, 4096},
+      {"--gap-resolution", ValueKind::Integer, "G", "(3D, with --surface-resolution) " + same, 1, 16384},
+      {"--background", ValueKind::Text, "FILE", same},
+      {"--conforming", ValueKind::Flag, "",
+       "the conforming mesh of 'immerse mesh --conforming' (3D: TetGen's tets; --glued: its tets glued back)"},
+      {"--edge-length", ValueKind::Real, "H", "(3D --conforming) " + same},
+      {"--radius-edge", ValueKind::Real, "R", "(3D --conforming) " + same},
+      {"--min-dihedral", ValueKind::Real, "DEG", "(3D --conforming) " + same},
+  };
+}
+
+std::string parse_mesh_choice(const CommandLine& cl, bool surface, MeshChoice& choice) {
+  choice = MeshChoice{};
+  choice.conforming = cl.has("--conforming");
+  if (cl.has("--resolution") && cl.has("--background")) return "--resolution and --background exclude each other";
+  if (cl.has("--surface-resolution") && cl.has("--background"))
+    return "--surface-resolution and --background exclude each other";
+  if (cl.has("--gap-resolution") && !cl.has("--surface-resolution")) return "--gap-resolution needs --surface-resolution";
+  if (choice.conforming)
+    for (const char* option : {"--background", "--surface-resolution"})
+      if (cl.has(option)) return std::string(option) + " is for the background mesher, not --conforming";
+  if (!surface)
+    for (const char* option : {"--surface-resolution", "--gap-resolution", "--edge-length", "--radius-edge", "--min-dihedral"})
+      if (cl.has(option)) return std::string(option) + " is for 3D surfaces only";
+  if (!choice.conforming)
+    for (const char* option : {"--edge-length", "--radius-edge", "--min-dihedral"})
+      if (cl.has(option)) return std::string(option) + " needs --conforming";
+  if (auto n = cl.integer("--resolution")) choice.resolution = static_cast<int>(*n);
+  if (auto v = cl.value("--background")) choice.background = *v;
+  if (!surface) return {};
+  if (choice.resolution)
+    if (std::string error = check_resolution3(*choice.resolution); !error.empty()) return error;
+  if (choice.background && !dim3::is_tet_mesh_extension(*choice.background))
+    return "--background " + *choice.background + ": expected a .veg, .mesh, .node, .ele or .msh tet mesh";
+  if (auto m = cl.integer("--surface-resolution")) {
+    // Graded: --resolution is the far size; sizes only grow finer toward the surface and gaps.
+    dim3::GradedOptions graded;
+    graded.far_resolution = choice.resolution.value_or(8);
+    graded.surface_resolution = static_cast<int>(*m);
+    graded.gap_resolution = static_cast<int>(cl.integer("--gap-resolution").value_or(0));
+    if (graded.surface_resolution < graded.far_resolution)
+      return "--surface-resolution " + std::to_string(graded.surface_resolution) + " is coarser than --resolution " +
+             std::to_string(graded.far_resolution);
+    if (graded.gap_resolution != 0 && graded.gap_resolution < graded.surface_resolution)
+      return "--gap-resolution " + std::to_string(graded.gap_resolution) + " is coarser than --surface-resolution " +
+             std::to_string(graded.surface_resolution);
+    choice.graded = graded;
+  }
+  if (choice.conforming) return parse_conforming3(cl, choice.conforming3);
+  return {};
+}
+
+namespace {
+
 std::string parse_search_request(const CommandLine& cl, SearchRequest& request) {
   if (cl.has("--all") && cl.has("--max")) return "--all and --max exclude each other";
   if (cl.has("--all")) request.max_immersions = 0;
@@ -974,27 +1039,16 @@ int mesh_and_write(Session& s, const Prepared& p, const SearchResult& r, std::si
 
 int command_mesh(Session& s, const CommandLine& cl) {
   const CliEnvironment& env = s.env();
-  dim2::MeshOptions options;
-  if (cl.has("--resolution") && cl.has("--background")) {
-    return usage_error(env, "mesh", "--resolution and --background exclude each other");
-  }
-  if (cl.has("--surface-resolution") && cl.has("--background")) {
-    return usage_error(env, "mesh", "--surface-resolution and --background exclude each other");
-  }
-  if (cl.has("--gap-resolution") && !cl.has("--surface-resolution")) {
-    return usage_error(env, "mesh", "--gap-resolution needs --surface-resolution");
-  }
-  if (cl.has("--surface-resolution") && cl.has("--conforming")) {
-    return usage_error(env, "mesh", "--surface-resolution is for the background mesher, not --conforming");
-  }
-  if (auto n = cl.integer("--resolution")) options.resolution = static_cast<int>(*n);
-  if (auto v = cl.value("--background")) options.background_path = *v;
-  options.conforming = cl.has("--conforming");
+  const bool surface = is_surface_file(cl.positional[0]);
+  MeshChoice choice;
+  if (const std::string error = parse_mesh_choice(cl, surface, choice); !error.empty())
+    return usage_error(env, "mesh", error);
+  MeshMethod method = MeshMethod::Clip;
   std::size_t k = 0;
   if (auto n = cl.integer("--immersion")) k = static_cast<std::size_t>(*n);
   if (auto v = cl.value("--method")) {
     if (*v == "csg") {
-      options.method = MeshMethod::Csg;
+      method = MeshMethod::Csg;
     } else if (*v != "clip") {
       return usage_error(env, "mesh", "--method expects 'clip' or 'csg', got '" + *v + "'");
     }
@@ -1004,41 +1058,15 @@ int command_mesh(Session& s, const CommandLine& cl) {
   bound_outputs(s, cl, request);
   const bool all = cl.has("--all");
   request.max_immersions = all ? 0 : k + 1;
-  if (is_surface_file(cl.positional[0])) {
-    dim3::MeshOptions options3;
-    options3.method = options.method;
-    if (options.background_path) options3.background_path = options.background_path;
-    if (cl.has("--resolution")) {
-      if (const std::string error = check_resolution3(options.resolution); !error.empty()) {
-        return usage_error(env, "mesh", error);
-      }
-      options3.resolution = options.resolution;
-    }
-    if (auto m = cl.integer("--surface-resolution")) {
-      // Graded: --resolution is the far size; sizes only grow finer toward the surface and gaps.
-      dim3::GradedOptions graded;
-      graded.far_resolution = cl.has("--resolution") ? options.resolution : 8;
-      graded.surface_resolution = static_cast<int>(*m);
-      graded.gap_resolution = static_cast<int>(cl.integer("--gap-resolution").value_or(0));
-      if (graded.surface_resolution < graded.far_resolution)
-        return usage_error(env, "mesh", "--surface-resolution " + std::to_string(graded.surface_resolution) +
-                                            " is coarser than --resolution " + std::to_string(graded.far_resolution));
-      if (graded.gap_resolution != 0 && graded.gap_resolution < graded.surface_resolution)
-        return usage_error(env, "mesh", "--gap-resolution " + std::to_string(graded.gap_resolution) +
-                                            " is coarser than --surface-resolution " +
-                                            std::to_string(graded.surface_resolution));
-      options3.graded = graded;
-    }
+  if (surface) {
+    dim3::MeshOptions options3 = choice.options3();
+    options3.method = method;
     if (auto n = cl.integer("--threads")) options3.threads = static_cast<unsigned>(*n);
     if (all && cl.has("--immersion")) return usage_error(env, "mesh", "--all and --immersion exclude each other");
-    if (!options.conforming) return mesh_surface(s, cl, request, options3, k, all);
     // --conforming: TetGen's tets; the edge length defaults to the grid's cube side.
-    dim3::ConformingOptions conforming;
-    if (const std::string error = parse_conforming3(cl, conforming); !error.empty()) return usage_error(env, "mesh", error);
-    return mesh_surface(s, cl, request, options3, k, all, &conforming);
+    return mesh_surface(s, cl, request, options3, k, all, choice.conforming ? &choice.conforming3 : nullptr);
   }
-  for (const char* option : {"--all", "--threads", "--no-helper-boxes", "--edge-length", "--radius-edge", "--min-dihedral",
-                             "--surface-resolution", "--gap-resolution"})
+  for (const char* option : {"--all", "--threads", "--no-helper-boxes"})
     if (cl.has(option)) return usage_error(env, "mesh", std::string(option) + " is for 3D surfaces only");
 
   s.enable_summary();
@@ -1059,6 +1087,8 @@ int command_mesh(Session& s, const CommandLine& cl) {
     return usage_error(env, "mesh",
                        immersion_index_message(k, p.path, r.immersions.size(), r.complete));
   }
+  dim2::MeshOptions options = choice.options2();
+  options.method = method;
   const int code = mesh_and_write(s, p, r, k, options, cl);
   print_written(s);
   return code;

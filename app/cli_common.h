@@ -35,6 +35,7 @@
 #include "core/perturbation.h"
 #include "core/graph_search.h"
 #include "core/verdicts.h"
+#include "dim2/mesh2.h"
 #include "dim3/conforming_mesh3.h"
 #include "dim3/mesh3.h"
 
@@ -109,6 +110,45 @@ inline std::string parse_conforming3(const CommandLine& cl, dim3::ConformingOpti
   }
   return {};
 }
+
+// ---- how mesh, deform and weights mesh their input ---------------------------------------------
+
+/// The mesher options `mesh`, `deform` and `weights` share: a generated grid (uniform, or graded
+/// toward the surface in 3D), a background file, or the conforming mesher with its sizes. Parsed
+/// and checked in one place (parse_mesh_choice), so the three commands accept the same options and
+/// refuse the same combinations with the same messages.
+struct MeshChoice {
+  std::optional<int> resolution;              ///< --resolution, as given
+  std::optional<std::string> background;      ///< --background FILE
+  std::optional<dim3::GradedOptions> graded;  ///< --surface-resolution [--gap-resolution] (3D)
+  bool conforming = false;                    ///< --conforming
+  dim3::ConformingOptions conforming3;        ///< its sizes (edge_length 0: conforming_edge_length)
+
+  /// The 2D mesher's options of this choice.
+  [[nodiscard]] dim2::MeshOptions options2() const {
+    dim2::MeshOptions o;
+    if (resolution) o.resolution = *resolution;
+    o.background_path = background;
+    o.conforming = conforming;
+    return o;
+  }
+  /// The 3D background mesher's options of this choice.
+  [[nodiscard]] dim3::MeshOptions options3() const {
+    dim3::MeshOptions o;
+    if (resolution) o.resolution = *resolution;
+    o.background_path = background;
+    o.graded = graded;
+    return o;
+  }
+};
+
+/// The option specs of MeshChoice, for the commands' --help (`what`: "" for mesh, whose help
+/// explains them; "as for 'immerse mesh'" style pointers otherwise).
+std::vector<OptionSpec> mesh_choice_options(bool full_help);
+
+/// Reads and checks the options of MeshChoice; `surface`: the input is a 3D surface (the graded
+/// and conforming sizes are 3D only). @return a usage error message, or empty.
+std::string parse_mesh_choice(const CommandLine& cl, bool surface, MeshChoice& choice);
 
 // ---- one run: timings, counts, written files -------------------------------------------------
 

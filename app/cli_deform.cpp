@@ -353,26 +353,11 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   }
   SearchOptions search;
   search.max_immersions = k + 1;
-  const bool conforming = cl.has("--conforming");
-  dim3::ConformingOptions conforming_options;
-  if (conforming && cl.has("--background"))
-    return usage_error(s.env(), command, "--conforming and --background exclude each other");
-  if (cl.has("--resolution") && cl.has("--background"))  // as `mesh` refuses them
-    return usage_error(s.env(), command, "--resolution and --background exclude each other");
-  if (!conforming || !is_surface_file(path)) {
-    for (const char* option : {"--edge-length", "--radius-edge", "--min-dihedral"})
-      if (cl.has(option)) return usage_error(s.env(), command, std::string(option) + " is for 3D --conforming only");
-  }
-  if (conforming) {
-    if (const std::string error = parse_conforming3(cl, conforming_options); !error.empty())
-      return usage_error(s.env(), command, error);
-  }
-  if (is_surface_file(path)) {
-    if (auto n = cl.integer("--resolution")) {
-      if (const std::string error = check_resolution3(static_cast<int>(*n)); !error.empty()) {
-        return usage_error(s.env(), command, error);
-      }
-    }
+  const bool surface = is_surface_file(path);
+  MeshChoice choice;  // the options and checks of `immerse mesh`
+  if (const std::string error = parse_mesh_choice(cl, surface, choice); !error.empty())
+    return usage_error(s.env(), command, error);
+  if (surface) {
     dim3::SurfaceReadResult read = s.timed("read", [&] { return dim3::read_surface(path); });
     if (!read.report.ok()) {
       print_defects(s, path, read.report);
@@ -387,16 +372,15 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
       return kExitInvalidInput;
     }
     if (im.build.inversion || im.search.immersions.size() <= k) return no_immersion(s, command, path, im.search);
-    dim3::MeshOptions options;
-    options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
-    if (auto b = cl.value("--background")) options.background_path = *b;
+    const dim3::MeshOptions options = choice.options3();
     DeformableInput<3> in;
     std::vector<int> reference;
-    if (conforming) {
+    if (choice.conforming) {
+      dim3::ConformingOptions conforming_options = choice.conforming3;
       if (conforming_options.edge_length == 0.0)
         conforming_options.edge_length = dim3::conforming_edge_length(read.surface, options.resolution);
-      if (!(conforming_options.edge_length > 0))
-        return usage_error(s.env(), command, "--conforming: the input's box is flat; pass --edge-length");
+      if (!(conforming_options.edge_length > 0 && std::isfinite(conforming_options.edge_length)))
+        return usage_error(s.env(), command, "--conforming: the input's box is flat or not finite; pass --edge-length");
       const dim3::ConformingResult m = s.timed("mesh", [&] {
         return dim3::mesh_conforming(*im.build.complex, im.search.immersions[k], conforming_options, im.input_vertices,
                                       im.input_triangles);
@@ -444,10 +428,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   SearchResult r;
   if (!built.inversion) r = s.timed("search", [&] { return find_immersions(built.complex->complex, search); });
   if (built.inversion || r.immersions.size() <= k) return no_immersion(s, command, path, r);
-  dim2::MeshOptions options;
-  options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
-  if (auto b = cl.value("--background")) options.background_path = *b;
-  options.conforming = conforming;
+  const dim2::MeshOptions options = choice.options2();
   const dim2::MeshResult m = s.timed("mesh", [&] { return dim2::mesh_immersion(*built.complex, r.immersions[k], options); });
   if (!m.report.ok()) {
     print_defects(s, path, m.report);
@@ -474,7 +455,8 @@ CommandSpec deform_command_spec() {
   spec.name = "deform";
   spec.usage =
       "deform IN --handles H.json -o DIR [--method arap|fem|fem-static] [--frames N] [--iterations N]\n"
-      "                   [--glued] [--resolution N | --background FILE | --conforming] [--immersion K] [--json OUT]";
+      "                   [--glued] [--resolution N [--surface-resolution M [--gap-resolution G]] | --background FILE\n"
+      "                   | --conforming] [--immersion K] [--json OUT]";
   spec.positional_help = "a 2D curve file or a 3D surface (as for 'immerse mesh')";
   spec.description =
       "Meshes immersion K of IN as 'immerse mesh' does, then deforms the unglued mesh (paper §8): ARAP\n"
@@ -495,15 +477,11 @@ CommandSpec deform_command_spec() {
       {"--frames", ValueKind::Integer, "N", "frames (default 10): the displacements ramp over them", 1, 100'000},
       {"--iterations", ValueKind::Integer, "N", "ARAP local/global iterations per frame (default 50)", 1, 1'000'000},
       {"--glued", ValueKind::Flag, "", "deform the glued baseline instead of the unglued mesh"},
-      {"--resolution", ValueKind::Integer, "N", "as for 'immerse mesh'", 1, 100'000},
-      {"--background", ValueKind::Text, "FILE", "as for 'immerse mesh'"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (default 0)", 0, 1'000'000},
-      {"--conforming", ValueKind::Flag, "", "the conforming mesh of 'immerse mesh --conforming' (3D: TetGen's tets; --glued: its tets glued back)"},
-      {"--edge-length", ValueKind::Real, "H", "(3D --conforming) as for 'immerse mesh'"},
-      {"--radius-edge", ValueKind::Real, "R", "(3D --conforming) as for 'immerse mesh'"},
-      {"--min-dihedral", ValueKind::Real, "DEG", "(3D --conforming) as for 'immerse mesh'"},
       {"--json", ValueKind::Text, "OUT", "per frame: energy or Newton iterations, inverted elements, self-intersections; timings"},
   };
+  const std::vector<OptionSpec> mesher = mesh_choice_options(false);
+  spec.options.insert(spec.options.end() - 2, mesher.begin(), mesher.end());
   spec.footer =
       "Exit codes: 0 ok, 2 invalid input or handle file (bad JSON, empty selection, a vertex in two\n"
       "handles, a part of the mesh without handle for statics), 3 not immersible, 64 bad command line.\n";
@@ -513,7 +491,8 @@ CommandSpec deform_command_spec() {
 CommandSpec weights_command_spec() {
   CommandSpec spec;
   spec.name = "weights";
-  spec.usage = "weights IN --handles H.json -o OUT.vtu [--glued] [--resolution N | --background FILE | --conforming]\n"
+  spec.usage = "weights IN --handles H.json -o OUT.vtu [--glued]\n"
+               "                   [--resolution N [--surface-resolution M [--gap-resolution G]] | --background FILE | --conforming]\n"
                "                   [--immersion K]";
   spec.positional_help = "a 2D curve file or a 3D surface (as for 'immerse mesh')";
   spec.description =
@@ -524,14 +503,10 @@ CommandSpec weights_command_spec() {
       {"--handles", ValueKind::Text, "H.json", "the handles (required)"},
       {"-o", ValueKind::Text, "OUT.vtu", "the mesh with the weights (required)"},
       {"--glued", ValueKind::Flag, "", "the glued baseline instead of the unglued mesh"},
-      {"--resolution", ValueKind::Integer, "N", "as for 'immerse mesh'", 1, 100'000},
-      {"--background", ValueKind::Text, "FILE", "as for 'immerse mesh'"},
       {"--immersion", ValueKind::Integer, "K", "which immersion (default 0)", 0, 1'000'000},
-      {"--conforming", ValueKind::Flag, "", "the conforming mesh of 'immerse mesh --conforming' (3D: TetGen's tets; --glued: its tets glued back)"},
-      {"--edge-length", ValueKind::Real, "H", "(3D --conforming) as for 'immerse mesh'"},
-      {"--radius-edge", ValueKind::Real, "R", "(3D --conforming) as for 'immerse mesh'"},
-      {"--min-dihedral", ValueKind::Real, "DEG", "(3D --conforming) as for 'immerse mesh'"},
   };
+  const std::vector<OptionSpec> mesher = mesh_choice_options(false);
+  spec.options.insert(spec.options.end() - 1, mesher.begin(), mesher.end());
   spec.footer = "Exit codes: 0 ok, 2 invalid input or handle file, 3 not immersible, 64 bad command line.\n";
   return spec;
 }

@@ -609,23 +609,17 @@ Json conforming3_json(const dim3::ConformingResult& m, std::size_t k, const Imme
 int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request, const dim3::MeshOptions& options,
                  std::size_t k, bool all, const dim3::ConformingOptions* conforming) {
   if (cl.has("--svg")) return usage_error(s.env(), "mesh", "--svg is for 2D curves only");
-  if (conforming) {
-    for (const char* option : {"--background", "--method", "--threads"})
+  // The mesher options themselves were checked by parse_mesh_choice (shared with deform, weights).
+  if (conforming)
+    for (const char* option : {"--method", "--threads"})
       if (cl.has(option))
         return usage_error(s.env(), "mesh", std::string(option) + " is for the background mesher, not --conforming");
-  } else {
-    for (const char* option : {"--edge-length", "--radius-edge", "--min-dihedral"})
-      if (cl.has(option)) return usage_error(s.env(), "mesh", std::string(option) + " needs --conforming");
-  }
   if (auto path = cl.value("-o")) {
     const std::string ext = extension_of(*path);
     if (ext != ".mesh" && ext != ".vtu" && ext != ".veg" && ext != ".msh" && ext != ".node")
       return usage_error(s.env(), "mesh",
                          "-o " + *path + ": a tet mesh is written as .mesh, .vtu, .veg, .msh or .node (+ .ele)");
   }
-  if (options.background_path && !dim3::is_tet_mesh_extension(*options.background_path))
-    return usage_error(s.env(), "mesh", "--background " + *options.background_path +
-                                            ": expected a .veg, .mesh, .node, .ele or .msh tet mesh");
   s.enable_summary();
   PreparedSurface p;
   p.path = cl.positional[0];

@@ -123,4 +123,76 @@ TEST_F(DeformCli, ResolutionAndBackgroundExcludeEachOtherAsInMesh) {
   EXPECT_FALSE(exists("out"));
 }
 
+/// The first line of a usage error: "immerse COMMAND: message".
+std::string usage_message(const std::string& output, const std::string& command) {
+  const std::string prefix = "immerse " + command + ": ";
+  const std::size_t at = output.find(prefix);
+  if (at == std::string::npos) return {};
+  const std::size_t end = output.find('\n', at);
+  return output.substr(at + prefix.size(), end - at - prefix.size());
+}
+
+// deform and weights parse the mesher options with mesh's own parser (parse_mesh_choice): every
+// combination mesh refuses, they refuse with the same message, before any work.
+TEST_F(DeformCli, MesherOptionsAreCheckedAsMeshChecksThem) {
+  ASSERT_EQ(run("generate two-spheres 6 -o ts.obj").code, 0);
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  write("h.json", R"({"handles": [{"vertices": [0], "displacement": [1, 0, 0]}]})");
+  const char* bad[] = {
+      "ts.obj --resolution 8 --background bg.veg",
+      "ts.obj --surface-resolution 16 --background bg.veg",
+      "ts.obj --gap-resolution 64",
+      "ts.obj --resolution 16 --surface-resolution 8",
+      "ts.obj --surface-resolution 16 --gap-resolution 8",
+      "ts.obj --conforming --surface-resolution 16",
+      "ts.obj --conforming --background bg.veg",
+      "ts.obj --edge-length 0.1",
+      "ts.obj --conforming --radius-edge 0.5",
+      "ts.obj --resolution 151",
+      "ts.obj --background bg.obj",
+      "fig7.txt --surface-resolution 16",
+      "fig7.txt --conforming --edge-length 0.1",
+  };
+  for (const char* args : bad) {
+    SCOPED_TRACE(args);
+    const Outcome mesh = run(std::string("mesh ") + args + " -o m.vtu");
+    ASSERT_EQ(mesh.code, 64) << mesh.output;
+    const std::string message = usage_message(mesh.output, "mesh");
+    ASSERT_FALSE(message.empty()) << mesh.output;
+    const Outcome deform = run(std::string("deform ") + args + " --handles h.json -o out");
+    EXPECT_EQ(deform.code, 64) << deform.output;
+    EXPECT_EQ(usage_message(deform.output, "deform"), message) << deform.output;
+    const Outcome weights = run(std::string("weights ") + args + " --handles h.json -o w.vtu");
+    EXPECT_EQ(weights.code, 64) << weights.output;
+    EXPECT_EQ(usage_message(weights.output, "weights"), message) << weights.output;
+  }
+  EXPECT_FALSE(exists("out"));
+  EXPECT_FALSE(exists("w.vtu"));
+}
+
+// A graded background (issue 17) reaches deform and weights: the mesh they deform is mesh's own
+// (the element counts agree, and differ from the uniform grid's).
+TEST_F(DeformCli, GradedBackgroundsAsInMesh) {
+  ASSERT_EQ(run("generate two-spheres 6 -o ts.obj").code, 0);
+  write("h.json", R"({"handles": [{"box": {"min": [-100, -100, -100], "max": [-0.5, 100, 100]}, "displacement": [-0.5, 0, 0]},
+                                  {"box": {"min": [0.5, -100, -100], "max": [100, 100, 100]}}]})");
+  const auto count = [&](const std::string& file, const std::string& key) {
+    const std::regex pattern("\"" + key + "\": (\\d+)");
+    std::smatch match;
+    const std::string json = read(file);
+    return std::regex_search(json, match, pattern) ? std::stol(match[1]) : -1L;
+  };
+  ASSERT_EQ(run("mesh ts.obj --resolution 4 --surface-resolution 8 -o m.vtu --json m.json").code, 0);
+  ASSERT_EQ(run("mesh ts.obj --resolution 4 -o u.vtu --json u.json").code, 0);
+  const long graded_tets = count("m.json", "output_tets");
+  ASSERT_GT(graded_tets, 0);
+  ASSERT_NE(graded_tets, count("u.json", "output_tets"));  // the grading changes the mesh
+  const Outcome deform = run("deform ts.obj --handles h.json -o out --frames 1 --resolution 4 --surface-resolution 8 --json out/r.json");
+  ASSERT_EQ(deform.code, 0) << deform.output;
+  EXPECT_EQ(count("out/r.json", "elements"), graded_tets) << read("out/r.json");
+  const Outcome weights = run("weights ts.obj --handles h.json -o w.vtu --resolution 4 --surface-resolution 8");
+  ASSERT_EQ(weights.code, 0) << weights.output;
+  EXPECT_TRUE(exists("w.vtu"));
+}
+
 }  // namespace
