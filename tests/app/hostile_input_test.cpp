@@ -39,4 +39,29 @@ TEST_F(HostileInput, ConformingRefinementIsBounded) {
   EXPECT_EQ(r.code, 0) << r.output;
 }
 
+// `weights tori.obj -o tori.obj` replaced the user's surface by the weights' VTU (and `--json`
+// could replace any input): an output naming an input file, by any path, is a usage error now,
+// before any work, and the input is untouched.
+TEST_F(HostileInput, OutputsNeverReplaceAnInput) {
+  ASSERT_EQ(run("generate two-tori 10 -o tori.obj").code, 0);
+  write("h.json", R"({"handles": [{"box": {"min": [-10, -10, -10], "max": [-1, 10, 10]}, "displacement": [-1, 0, 0]},
+                                 {"box": {"min": [2, -10, -10], "max": [10, 10, 10]}}]})");
+  const std::string surface = read("tori.obj");
+  for (const char* command :
+       {"weights tori.obj --handles h.json -o tori.obj --resolution 6", "weights tori.obj --handles h.json -o ./h.json",
+        "mesh tori.obj --resolution 6 -o m.mesh --json ../" /* below: the same file by another path */,
+        "cells tori.obj --cut-mesh tori.obj", "mesh tori.obj --resolution 6 -o m.mesh --embedding tori.obj"}) {
+    std::string args = command;
+    if (args.find("../") != std::string::npos) args += dir_.filename().string() + "/tori.obj";
+    SCOPED_TRACE(args);
+    const Outcome r = run(args);
+    EXPECT_EQ(r.code, 64) << r.output;
+    EXPECT_CONTAINS(r.output, "it would be replaced");
+    EXPECT_FALSE(exists("m.mesh"));
+  }
+  EXPECT_EQ(read("tori.obj"), surface);
+  EXPECT_EQ(read("h.json").find("VTKFile"), std::string::npos);
+  EXPECT_EQ(run("weights tori.obj --handles h.json -o w.vtu --resolution 6").code, 0);
+}
+
 }  // namespace
