@@ -277,6 +277,23 @@ std::shared_ptr<const imm::dim2::Complex2> built_curves(const Curves& curves) {
   return built.complex;
 }
 
+/// The bounds the program's command line enforces, for the library's options (a resolution of
+/// 0 failed an internal invariant, one of 10^6 an allocation check, and threads = 10^9 allocated
+/// per-thread scratch until the process was killed).
+constexpr unsigned kMaxThreads = 1024;  // as `immerse mesh --threads`
+constexpr int kMaxResolution3 = 150;    // as `immerse mesh --resolution` in 3D
+
+void check_threads(unsigned threads) {
+  if (threads > kMaxThreads)
+    throw Error(ErrorKind::InvalidInput, "threads: at most " + std::to_string(kMaxThreads) + " (0 = all cores), got " +
+                                             std::to_string(threads));
+}
+
+void check_resolution(const std::optional<int>& resolution, int max) {
+  if (resolution && !(*resolution >= 1 && *resolution <= max))
+    throw Error(ErrorKind::InvalidInput, "resolution expects 1.." + std::to_string(max) + ", got " + std::to_string(*resolution));
+}
+
 }  // namespace
 
 Complex<2> build_complex(const Curves& curves, const BuildOptions&) {
@@ -285,6 +302,7 @@ Complex<2> build_complex(const Curves& curves, const BuildOptions&) {
 
 Complex<3> build_complex(const Surface& surface, const BuildOptions& options) {
   return guarded([&] {
+    check_threads(options.threads);
     imm::dim3::BuildOptions o;
     o.exact_volumes = options.exact_volumes;
     o.threads = options.threads;
@@ -320,6 +338,7 @@ Immersions<2> find_immersions(const Curves& curves, const SearchOptions& options
 
 Immersions<3> find_immersions(const Surface& surface, const SearchOptions& options) {
   return guarded([&] {
+    check_threads(options.threads);
     imm::dim3::ImmerseOptions o;
     o.build.exact_volumes = false;  // the search reads no volume (as the program)
     o.build.threads = options.threads;
@@ -375,6 +394,7 @@ SimplexMesh<2> mesh_immersion(const Immersions<2>& found, const MeshOptions& opt
   return guarded([&] {
     const std::string name = found.data_ ? found.data_->name : std::string();
     check_immersion_index(found, options, name);
+    check_resolution(options.resolution, std::numeric_limits<int>::max());
     imm::dim2::MeshOptions o;
     if (options.resolution) o.resolution = *options.resolution;
     o.background_path = options.background;
@@ -438,6 +458,8 @@ SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& opt
   return guarded([&] {
     const std::string name = found.data_ ? found.data_->name : std::string();
     check_immersion_index(found, options, name);
+    check_resolution(options.resolution, kMaxResolution3);
+    check_threads(options.threads);
     imm::dim3::MeshOptions o;
     if (options.resolution) o.resolution = *options.resolution;
     o.background_path = options.background;
