@@ -60,6 +60,20 @@ std::vector<double> numbers(const Json& j, std::size_t dimension, const std::str
   return out;
 }
 
+/// Empty when every key of the object `j` is one of `known`, else the message naming the first
+/// other key: a misspelt "displacment" left its handle fixed without a word.
+std::string unknown_key(const Json& j, std::initializer_list<const char*> known, const std::string& where) {
+  for (const auto& [key, value] : j.items()) {
+    bool ok = false;
+    for (const char* k : known) ok = ok || key == k;
+    if (ok) continue;
+    std::string list;
+    for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + '"' + k + '"';
+    return where + ": unknown key \"" + key + "\" (expected " + list + ")";
+  }
+  return {};
+}
+
 HandleFile read_handles(const std::string& path, std::size_t dimension) {
   HandleFile file;
   std::ifstream in(path);
@@ -79,6 +93,12 @@ HandleFile read_handles(const std::string& path, std::size_t dimension) {
     error = "the handle file '" + path + "' needs a non-empty array \"handles\"";
     return file;
   }
+  error = unknown_key(j, {"handles", "material", "time_step", "gravity", "ground"}, "the handle file '" + path + "'");
+  if (error.empty() && j.contains("material") && j["material"].is_object())
+    error = unknown_key(j["material"], {"youngs_modulus", "poisson_ratio", "density"}, "material");
+  if (error.empty() && j.contains("ground") && j["ground"].is_object())
+    error = unknown_key(j["ground"], {"normal", "offset"}, "ground");
+  if (!error.empty()) return file;
   for (std::size_t k = 0; k < j["handles"].size() && error.empty(); ++k) {
     const Json& h = j["handles"][k];
     const std::string where = "handle " + std::to_string(k);
@@ -87,6 +107,10 @@ HandleFile read_handles(const std::string& path, std::size_t dimension) {
       error = where + ": expected an object";
       break;
     }
+    error = unknown_key(h, {"box", "vertices", "displacement", "fixed"}, where);
+    if (error.empty() && h.contains("fixed") && (!h["fixed"].is_boolean() || (h["fixed"].get<bool>() && h.contains("displacement"))))
+      error = where + ": \"fixed\" is true or false, and a fixed handle has no displacement";
+    if (!error.empty()) break;
     if (h.contains("box")) {
       if (!h["box"].is_object() || !h["box"].contains("min") || !h["box"].contains("max")) {
         error = where + ": \"box\" needs \"min\" and \"max\"";
@@ -100,6 +124,8 @@ HandleFile read_handles(const std::string& path, std::size_t dimension) {
       else
         for (const Json& v : h["vertices"]) {
           if (!v.is_number_integer()) error = where + ": vertex ids must be integers";
+          else if (v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(std::numeric_limits<long long>::max()))
+            error = where + ": vertex " + v.dump() + " is not a mesh vertex";  // read as a long long, it was -1
           else spec.vertices.push_back(v.get<long long>());
         }
     }
@@ -320,12 +346,7 @@ int run_weights(Session& s, const CommandLine& cl, const SimplexMesh<D>& mesh, c
 /// The mesh deformed: the unglued mesh, or with --glued the baseline (references: -1).
 template <int D>
 int on_mesh(Session& s, const CommandLine& cl, const std::string& command, const DeformableInput<D>& in,
-            const std::vector<int>& unglued_reference, const InputOps& ops) {
-  const HandleFile file = read_handles(*cl.value("--handles"), D);
-  if (!file.error.empty()) {
-    s.err() << "immerse " << command << ": " << file.error << '\n';
-    return kExitInvalidInput;
-  }
+            const std::vector<int>& unglued_reference, const InputOps& ops, const HandleFile& file) {
   const bool glued = cl.has("--glued");
   const SimplexMesh<D>& mesh = glued ? in.glued.mesh : in.unglued;
   const std::vector<int> reference = glued ? std::vector<int>(static_cast<std::size_t>(mesh.element_count()), -1) : unglued_reference;
@@ -366,6 +387,12 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   if (conforming) {
     if (const std::string error = parse_conforming3(cl, conforming_options); !error.empty())
       return usage_error(s.env(), command, error);
+  }
+  // The handle file is read before meshing (a typo in it costs no meshing time).
+  const HandleFile file = read_handles(*cl.value("--handles"), is_surface_file(path) ? 3 : 2);
+  if (!file.error.empty()) {
+    s.err() << "immerse " << command << ": " << file.error << '\n';
+    return kExitInvalidInput;
   }
   if (is_surface_file(path)) {
     if (auto n = cl.integer("--resolution")) {
@@ -429,7 +456,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     };
     ops.format = [moved](const Eigen::MatrixXd& p) { return dim3::format_obj(moved(p)); };
     ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim3::check_generic_surface(moved(p)).intersecting_pairs; };
-    return on_mesh<3>(s, cl, command, in, reference, ops);
+    return on_mesh<3>(s, cl, command, in, reference, ops, file);
   }
   dim2::ReadResult read = s.timed("read", [&] { return dim2::read_curves(path); });
   if (!read.report.ok()) {
@@ -466,7 +493,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   ops.extension = ".txt";
   ops.format = [moved](const Eigen::MatrixXd& p) { return dim2::format_curves_text(moved(p)); };
   ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim2::check_generic(moved(p)).crossings; };
-  return on_mesh<2>(s, cl, command, in, m.mesh.reference, ops);
+  return on_mesh<2>(s, cl, command, in, m.mesh.reference, ops, file);
 }
 
 CommandSpec deform_command_spec() {

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include "support/immerse_fixture.h"
 
@@ -62,6 +63,40 @@ TEST_F(HostileInput, OutputsNeverReplaceAnInput) {
   EXPECT_EQ(read("tori.obj"), surface);
   EXPECT_EQ(read("h.json").find("VTKFile"), std::string::npos);
   EXPECT_EQ(run("weights tori.obj --handles h.json -o w.vtu --resolution 6").code, 0);
+}
+
+// Handle files: a misspelt key ("displacment") left its handle fixed without a word, a vertex id
+// of 2^64 - 1 was reported as vertex -1, and the file was read only after meshing.
+TEST_F(HostileInput, HandleFilesSayWhatIsWrongBeforeMeshing) {
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  const std::pair<const char*, const char*> cases[] = {
+      {R"({"handles": [{"vertices": [0], "displacment": [1, 1]}]})", R"(handle 0: unknown key "displacment")"},
+      {R"({"handles": [{"vertices": [0]}], "materal": {}})", R"(unknown key "materal")"},
+      {R"({"handles": [{"vertices": [0]}], "material": {"young": 3}})", R"(material: unknown key "young")"},
+      {R"({"handles": [{"vertices": [0]}], "ground": {"normal": [0, 1], "ofset": 1}})", R"(ground: unknown key "ofset")"},
+      {R"({"handles": [{"vertices": [0], "fixed": true, "displacement": [1, 0]}]})", "a fixed handle has no displacement"},
+      {R"({"handles": [{"vertices": [18446744073709551615]}]})", "vertex 18446744073709551615 is not a mesh vertex"},
+  };
+  for (const auto& [json, message] : cases) {
+    SCOPED_TRACE(json);
+    write("h.json", json);
+    for (const char* command : {"deform", "weights"}) {
+      const Outcome r = run(std::string(command) + " fig7.txt --handles h.json -o out/w.vtu --resolution 8");
+      EXPECT_EQ(r.code, 2) << r.output;
+      EXPECT_CONTAINS(r.output, message);
+      EXPECT_FALSE(exists("out"));
+    }
+  }
+  // Read first: a bad handle file is the verdict even before the input is opened.
+  write("bad.json", "{\"handles\": [");
+  const Outcome r = run("deform missing.obj --handles bad.json -o out");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_CONTAINS(r.output, "not valid JSON");
+  // The documented keys still pass.
+  write("ok.json", R"({"handles": [{"vertices": [0], "fixed": true}, {"vertices": [5], "displacement": [1, 0]}],
+                       "material": {"youngs_modulus": 1000, "poisson_ratio": 0.3, "density": 1}, "time_step": 0.1,
+                       "gravity": [0, -1], "ground": {"normal": [0, 1], "offset": -1000}})");
+  EXPECT_EQ(run("deform fig7.txt --handles ok.json -o ok --resolution 8 --frames 1 --method fem").code, 0);
 }
 
 }  // namespace
