@@ -354,7 +354,11 @@ int on_mesh(Session& s, const CommandLine& cl, const std::string& command, const
   return run_deform<D>(s, cl, mesh, glued ? in.glued_embedding : in.unglued_embedding, reference, file, ops);
 }
 
-int no_immersion(Session& s, const std::string& command, const std::string& path, const SearchResult& r) {
+int no_immersion(Session& s, const std::string& command, const std::string& path, const SearchResult& r, std::size_t k) {
+  // Immersible, with fewer immersions than --immersion K asks for: the usage error of `mesh` (it
+  // said "has no immersion to mesh (immersible)", exit 3).
+  if (r.status == ImmersionStatus::Immersible)
+    return usage_error(s.env(), command, immersion_index_message(k, path, r.immersions.size(), r.complete));
   s.err() << "immerse " << command << ": '" << path << "' has no immersion to mesh (" << to_string(r.status)
           << "); 'immerse immersions' explains why\n";
   return kExitNotImmersible;
@@ -388,6 +392,13 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     if (const std::string error = parse_conforming3(cl, conforming_options); !error.empty())
       return usage_error(s.env(), command, error);
   }
+  if (is_surface_file(path)) {
+    if (auto n = cl.integer("--resolution")) {
+      if (const std::string error = check_resolution3(static_cast<int>(*n)); !error.empty()) {
+        return usage_error(s.env(), command, error);
+      }
+    }
+  }
   // The handle file is read before meshing (a typo in it costs no meshing time).
   const HandleFile file = read_handles(*cl.value("--handles"), is_surface_file(path) ? 3 : 2);
   if (!file.error.empty()) {
@@ -395,11 +406,6 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     return kExitInvalidInput;
   }
   if (is_surface_file(path)) {
-    if (auto n = cl.integer("--resolution")) {
-      if (const std::string error = check_resolution3(static_cast<int>(*n)); !error.empty()) {
-        return usage_error(s.env(), command, error);
-      }
-    }
     dim3::SurfaceReadResult read = s.timed("read", [&] { return dim3::read_surface(path); });
     if (!read.report.ok()) {
       print_defects(s, path, read.report);
@@ -413,7 +419,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
       print_defects(s, path, im.build.report);
       return kExitInvalidInput;
     }
-    if (im.build.inversion || im.search.immersions.size() <= k) return no_immersion(s, command, path, im.search);
+    if (im.build.inversion || im.search.immersions.size() <= k) return no_immersion(s, command, path, im.search, k);
     dim3::MeshOptions options;
     options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
     if (auto b = cl.value("--background")) options.background_path = *b;
@@ -470,7 +476,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   }
   SearchResult r;
   if (!built.inversion) r = s.timed("search", [&] { return find_immersions(built.complex->complex, search); });
-  if (built.inversion || r.immersions.size() <= k) return no_immersion(s, command, path, r);
+  if (built.inversion || r.immersions.size() <= k) return no_immersion(s, command, path, r, k);
   dim2::MeshOptions options;
   options.resolution = static_cast<int>(cl.integer("--resolution").value_or(options.resolution));
   if (auto b = cl.value("--background")) options.background_path = *b;

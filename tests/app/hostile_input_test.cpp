@@ -99,4 +99,23 @@ TEST_F(HostileInput, HandleFilesSayWhatIsWrongBeforeMeshing) {
   EXPECT_EQ(run("deform fig7.txt --handles ok.json -o ok --resolution 8 --frames 1 --method fem").code, 0);
 }
 
+// `deform --immersion 5` on an input with one immersion said "'fig7.txt' has no immersion to mesh
+// (immersible)" with exit 3; `mesh` calls it a usage error naming the count. And a 3D
+// --resolution past 150 is a usage error before the handle file is judged.
+TEST_F(HostileInput, DeformChecksItsOptionsLikeMesh) {
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  write("h.json", R"({"handles": [{"vertices": [0]}]})");
+  for (const char* command : {"deform fig7.txt --handles h.json -o out", "weights fig7.txt --handles h.json -o out/w.vtu"}) {
+    SCOPED_TRACE(command);
+    const Outcome r = run(std::string(command) + " --resolution 8 --immersion 5");
+    EXPECT_EQ(r.code, 64) << r.output;
+    EXPECT_CONTAINS(r.output, "has only 1 immersion");
+  }
+  ASSERT_EQ(run("generate two-spheres 6 -o ts.obj").code, 0);
+  const Outcome r = run("deform ts.obj --handles h.json -o out --resolution 200");
+  EXPECT_EQ(r.code, 64) << r.output;
+  EXPECT_CONTAINS(r.output, "at most 150");
+  EXPECT_FALSE(exists("out"));
+}
+
 }  // namespace
