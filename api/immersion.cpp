@@ -75,7 +75,17 @@ constexpr std::size_t kMaxDefectLines = 50;
   throw Error(ErrorKind::NotImmersible, imm::not_immersible_message(name, reason));
 }
 
+/// The option values the program refuses on its command line (exit 64) are InvalidInput here:
+/// NaN or negative budgets were taken silently.
+void check_repair_folds(const std::optional<double>& max) {
+  if (max && !(*max > 0 && std::isfinite(*max)))
+    throw Error(ErrorKind::InvalidInput, "repair_folds must be a positive number");
+}
+
 imm::SearchOptions search_options(const SearchOptions& o) {
+  if (!(o.time_limit_seconds >= 0 && std::isfinite(o.time_limit_seconds)))
+    throw Error(ErrorKind::InvalidInput, "time_limit_seconds must be a finite number >= 0 (0: no limit)");
+  check_repair_folds(o.repair_folds);
   imm::SearchOptions s;
   s.max_immersions = o.max_immersions;
   s.max_states = o.max_states;
@@ -277,6 +287,23 @@ std::shared_ptr<const imm::dim2::Complex2> built_curves(const Curves& curves) {
   return built.complex;
 }
 
+/// The bounds the program's command line enforces, for the library's options (a resolution of
+/// 0 failed an internal invariant, one of 10^6 an allocation check, and threads = 10^9 allocated
+/// per-thread scratch until the process was killed).
+constexpr unsigned kMaxThreads = 1024;  // as `immerse mesh --threads`
+constexpr int kMaxResolution3 = 150;    // as `immerse mesh --resolution` in 3D
+
+void check_threads(unsigned threads) {
+  if (threads > kMaxThreads)
+    throw Error(ErrorKind::InvalidInput, "threads: at most " + std::to_string(kMaxThreads) + " (0 = all cores), got " +
+                                             std::to_string(threads));
+}
+
+void check_resolution(const std::optional<int>& resolution, int max) {
+  if (resolution && !(*resolution >= 1 && *resolution <= max))
+    throw Error(ErrorKind::InvalidInput, "resolution expects 1.." + std::to_string(max) + ", got " + std::to_string(*resolution));
+}
+
 }  // namespace
 
 Complex<2> build_complex(const Curves& curves, const BuildOptions&) {
@@ -285,9 +312,11 @@ Complex<2> build_complex(const Curves& curves, const BuildOptions&) {
 
 Complex<3> build_complex(const Surface& surface, const BuildOptions& options) {
   return guarded([&] {
+    check_threads(options.threads);
     imm::dim3::BuildOptions o;
     o.exact_volumes = options.exact_volumes;
     o.threads = options.threads;
+    check_repair_folds(options.repair_folds);
     o.repair_folds = options.repair_folds;
     imm::dim3::BuildResult built = imm::dim3::build_complex(to_surface(surface), o);
     if (!built.report.ok()) throw_defects(surface.name, built.report);
@@ -320,6 +349,7 @@ Immersions<2> find_immersions(const Curves& curves, const SearchOptions& options
 
 Immersions<3> find_immersions(const Surface& surface, const SearchOptions& options) {
   return guarded([&] {
+    check_threads(options.threads);
     imm::dim3::ImmerseOptions o;
     o.build.exact_volumes = false;  // the search reads no volume (as the program)
     o.build.threads = options.threads;
@@ -375,6 +405,7 @@ SimplexMesh<2> mesh_immersion(const Immersions<2>& found, const MeshOptions& opt
   return guarded([&] {
     const std::string name = found.data_ ? found.data_->name : std::string();
     check_immersion_index(found, options, name);
+    check_resolution(options.resolution, std::numeric_limits<int>::max());
     imm::dim2::MeshOptions o;
     if (options.resolution) o.resolution = *options.resolution;
     o.background_path = options.background;
@@ -438,6 +469,8 @@ SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& opt
   return guarded([&] {
     const std::string name = found.data_ ? found.data_->name : std::string();
     check_immersion_index(found, options, name);
+    check_resolution(options.resolution, kMaxResolution3);
+    check_threads(options.threads);
     imm::dim3::MeshOptions o;
     if (options.resolution) o.resolution = *options.resolution;
     o.background_path = options.background;
@@ -499,8 +532,28 @@ std::string lower_extension(const std::string& path) {
 
 }  // namespace
 
+/// A mesh filled by the caller is checked before it is written: indices out of range were written
+/// as they were (a corrupt file), and fewer nodes than elements read past the end.
+template <int D>
+void check_mesh(const SimplexMesh<D>& mesh, const std::string& path) {
+  const std::size_t n = mesh.vertices.size();
+  for (std::size_t v = 0; v < n; ++v)
+    for (double x : mesh.vertices[v])
+      if (!std::isfinite(x))
+        throw Error(ErrorKind::InvalidInput, path + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
+  for (std::size_t e = 0; e < mesh.elements.size(); ++e)
+    for (auto i : mesh.elements[e])
+      if (i < 0 || static_cast<std::size_t>(i) >= n)
+        throw Error(ErrorKind::InvalidInput, path + ": element " + std::to_string(e) + " refers to vertex " +
+                                                 std::to_string(i) + ", but the mesh has " + std::to_string(n) + " vertices");
+  if (mesh.node.size() != mesh.elements.size())
+    throw Error(ErrorKind::InvalidInput, path + ": " + std::to_string(mesh.elements.size()) + " elements but " +
+                                             std::to_string(mesh.node.size()) + " node references");
+}
+
 void write_mesh(const SimplexMesh<2>& mesh, const std::string& path) {
   guarded([&] {
+    check_mesh(mesh, path);
     if (lower_extension(path) != ".mesh")
       throw Error(ErrorKind::InvalidInput, path + ": a triangle mesh is written as .mesh");
     imm::dim2::TriangleMesh m;
@@ -513,6 +566,7 @@ void write_mesh(const SimplexMesh<2>& mesh, const std::string& path) {
 
 void write_mesh(const SimplexMesh<3>& mesh, const std::string& path) {
   guarded([&] {
+    check_mesh(mesh, path);
     imm::dim3::TetMesh m;
     m.vertices = mesh.vertices;
     m.tets.assign(mesh.elements.begin(), mesh.elements.end());

@@ -1192,6 +1192,25 @@ int command_default(Session& s) {
   return code;
 }
 
+/// An output path naming an input file (the same file, by any path): `weights in.obj -o in.obj`
+/// replaced the surface by the weights' VTU. Empty when there is none, else the usage message.
+std::string output_over_input(const CommandLine& cl) {
+  std::vector<std::pair<std::string, std::string>> inputs;
+  if (!cl.positional.empty()) inputs.emplace_back("the input", cl.positional[0]);
+  for (const char* option : {"--background", "--handles"})
+    if (auto v = cl.value(option)) inputs.emplace_back(std::string("the ") + option + " file", *v);
+  for (const char* option : {"-o", "--json", "--embedding", "--svg", "--cut-mesh"}) {
+    const auto out = cl.value(option);
+    if (!out) continue;
+    for (const auto& [what, in] : inputs) {
+      std::error_code ec;
+      if (std::filesystem::equivalent(*out, in, ec) && !ec)
+        return std::string(option) + " '" + *out + "' is " + what + " '" + in + "'; it would be replaced";
+    }
+  }
+  return {};
+}
+
 int dispatch(Session& s, const std::vector<std::string>& args) {
   const CliEnvironment& env = s.env();
   if (args.empty()) return command_default(s);
@@ -1221,6 +1240,7 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   }
   CommandLine cl;
   if (auto code = parse_command(env, *spec, std::vector<std::string>(args.begin() + 1, args.end()), cl)) return *code;
+  if (const std::string clash = output_over_input(cl); !clash.empty()) return usage_error(env, command, clash);
   s.set_strict(cl.has("--strict"));
   s.set_repair_folds(cl.real("--repair-folds"));
   if (command == "check") return command_check(s, cl);

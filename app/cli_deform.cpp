@@ -60,6 +60,20 @@ std::vector<double> numbers(const Json& j, std::size_t dimension, const std::str
   return out;
 }
 
+/// Empty when every key of the object `j` is one of `known`, else the message naming the first
+/// other key: a misspelt "displacment" left its handle fixed without a word.
+std::string unknown_key(const Json& j, std::initializer_list<const char*> known, const std::string& where) {
+  for (const auto& [key, value] : j.items()) {
+    bool ok = false;
+    for (const char* k : known) ok = ok || key == k;
+    if (ok) continue;
+    std::string list;
+    for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + '"' + k + '"';
+    return where + ": unknown key \"" + key + "\" (expected " + list + ")";
+  }
+  return {};
+}
+
 HandleFile read_handles(const std::string& path, std::size_t dimension) {
   HandleFile file;
   std::ifstream in(path);
@@ -79,6 +93,12 @@ HandleFile read_handles(const std::string& path, std::size_t dimension) {
     error = "the handle file '" + path + "' needs a non-empty array \"handles\"";
     return file;
   }
+  error = unknown_key(j, {"handles", "material", "time_step", "gravity", "ground"}, "the handle file '" + path + "'");
+  if (error.empty() && j.contains("material") && j["material"].is_object())
+    error = unknown_key(j["material"], {"youngs_modulus", "poisson_ratio", "density"}, "material");
+  if (error.empty() && j.contains("ground") && j["ground"].is_object())
+    error = unknown_key(j["ground"], {"normal", "offset"}, "ground");
+  if (!error.empty()) return file;
   for (std::size_t k = 0; k < j["handles"].size() && error.empty(); ++k) {
     const Json& h = j["handles"][k];
     const std::string where = "handle " + std::to_string(k);
@@ -87,6 +107,10 @@ HandleFile read_handles(const std::string& path, std::size_t dimension) {
       error = where + ": expected an object";
       break;
     }
+    error = unknown_key(h, {"box", "vertices", "displacement", "fixed"}, where);
+    if (error.empty() && h.contains("fixed") && (!h["fixed"].is_boolean() || (h["fixed"].get<bool>() && h.contains("displacement"))))
+      error = where + ": \"fixed\" is true or false, and a fixed handle has no displacement";
+    if (!error.empty()) break;
     if (h.contains("box")) {
       if (!h["box"].is_object() || !h["box"].contains("min") || !h["box"].contains("max")) {
         error = where + ": \"box\" needs \"min\" and \"max\"";
@@ -100,6 +124,8 @@ HandleFile read_handles(const std::string& path, std::size_t dimension) {
       else
         for (const Json& v : h["vertices"]) {
           if (!v.is_number_integer()) error = where + ": vertex ids must be integers";
+          else if (v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(std::numeric_limits<long long>::max()))
+            error = where + ": vertex " + v.dump() + " is not a mesh vertex";  // read as a long long, it was -1
           else spec.vertices.push_back(v.get<long long>());
         }
     }
@@ -320,12 +346,7 @@ int run_weights(Session& s, const CommandLine& cl, const SimplexMesh<D>& mesh, c
 /// The mesh deformed: the unglued mesh, or with --glued the baseline (references: -1).
 template <int D>
 int on_mesh(Session& s, const CommandLine& cl, const std::string& command, const DeformableInput<D>& in,
-            const std::vector<int>& unglued_reference, const InputOps& ops) {
-  const HandleFile file = read_handles(*cl.value("--handles"), D);
-  if (!file.error.empty()) {
-    s.err() << "immerse " << command << ": " << file.error << '\n';
-    return kExitInvalidInput;
-  }
+            const std::vector<int>& unglued_reference, const InputOps& ops, const HandleFile& file) {
   const bool glued = cl.has("--glued");
   const SimplexMesh<D>& mesh = glued ? in.glued.mesh : in.unglued;
   const std::vector<int> reference = glued ? std::vector<int>(static_cast<std::size_t>(mesh.element_count()), -1) : unglued_reference;
@@ -333,7 +354,11 @@ int on_mesh(Session& s, const CommandLine& cl, const std::string& command, const
   return run_deform<D>(s, cl, mesh, glued ? in.glued_embedding : in.unglued_embedding, reference, file, ops);
 }
 
-int no_immersion(Session& s, const std::string& command, const std::string& path, const SearchResult& r) {
+int no_immersion(Session& s, const std::string& command, const std::string& path, const SearchResult& r, std::size_t k) {
+  // Immersible, with fewer immersions than --immersion K asks for: the usage error of `mesh` (it
+  // said "has no immersion to mesh (immersible)", exit 3).
+  if (r.status == ImmersionStatus::Immersible)
+    return usage_error(s.env(), command, immersion_index_message(k, path, r.immersions.size(), r.complete));
   s.err() << "immerse " << command << ": '" << path << "' has no immersion to mesh (" << to_string(r.status)
           << "); 'immerse immersions' explains why\n";
   return kExitNotImmersible;
@@ -357,6 +382,12 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   MeshChoice choice;  // the options and checks of `immerse mesh`
   if (const std::string error = parse_mesh_choice(cl, surface, choice); !error.empty())
     return usage_error(s.env(), command, error);
+  // The handle file is read before meshing (a typo in it costs no meshing time).
+  const HandleFile file = read_handles(*cl.value("--handles"), surface ? 3 : 2);
+  if (!file.error.empty()) {
+    s.err() << "immerse " << command << ": " << file.error << '\n';
+    return kExitInvalidInput;
+  }
   if (surface) {
     dim3::SurfaceReadResult read = s.timed("read", [&] { return dim3::read_surface(path); });
     if (!read.report.ok()) {
@@ -371,7 +402,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
       print_defects(s, path, im.build.report);
       return kExitInvalidInput;
     }
-    if (im.build.inversion || im.search.immersions.size() <= k) return no_immersion(s, command, path, im.search);
+    if (im.build.inversion || im.search.immersions.size() <= k) return no_immersion(s, command, path, im.search, k);
     const dim3::MeshOptions options = choice.options3();
     DeformableInput<3> in;
     std::vector<int> reference;
@@ -413,7 +444,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     };
     ops.format = [moved](const Eigen::MatrixXd& p) { return dim3::format_obj(moved(p)); };
     ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim3::check_generic_surface(moved(p)).intersecting_pairs; };
-    return on_mesh<3>(s, cl, command, in, reference, ops);
+    return on_mesh<3>(s, cl, command, in, reference, ops, file);
   }
   dim2::ReadResult read = s.timed("read", [&] { return dim2::read_curves(path); });
   if (!read.report.ok()) {
@@ -427,7 +458,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   }
   SearchResult r;
   if (!built.inversion) r = s.timed("search", [&] { return find_immersions(built.complex->complex, search); });
-  if (built.inversion || r.immersions.size() <= k) return no_immersion(s, command, path, r);
+  if (built.inversion || r.immersions.size() <= k) return no_immersion(s, command, path, r, k);
   const dim2::MeshOptions options = choice.options2();
   const dim2::MeshResult m = s.timed("mesh", [&] { return dim2::mesh_immersion(*built.complex, r.immersions[k], options); });
   if (!m.report.ok()) {
@@ -447,7 +478,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   ops.extension = ".txt";
   ops.format = [moved](const Eigen::MatrixXd& p) { return dim2::format_curves_text(moved(p)); };
   ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim2::check_generic(moved(p)).crossings; };
-  return on_mesh<2>(s, cl, command, in, m.mesh.reference, ops);
+  return on_mesh<2>(s, cl, command, in, m.mesh.reference, ops, file);
 }
 
 CommandSpec deform_command_spec() {

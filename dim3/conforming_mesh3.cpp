@@ -18,11 +18,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <limits>
 #include <numeric>
 #include <sstream>
 #include <unordered_map>
 
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -75,6 +77,32 @@ struct Plc {
   std::vector<std::uint32_t> geometric;          ///< per PLC point: the complex's geometric point
   std::vector<std::array<std::int32_t, 3>> facets;  ///< per cut triangle
 };
+
+/// The largest conforming tetrahedralization asked for (about the 150-cube grid's 20 million tets).
+constexpr double kMaxConformingTets = 2e7;
+/// TetGen's Steiner points (-S): this many per tet the volume bound asks for, plus kSteinerExtra.
+constexpr std::size_t kSteinerPerTet = 2;
+constexpr std::size_t kSteinerExtra = 20000;
+
+Plc make_plc(const Complex& complex);
+
+/// An upper bound of the volume TetGen fills: the sum of the cones' volumes from the centroid of
+/// the points to the cut triangles (doubles; an estimate for the work bound only).
+double plc_volume_bound(const Plc& plc) {
+  double c[3] = {0, 0, 0};
+  for (const P3& p : plc.points)
+    for (int a = 0; a < 3; ++a) c[a] += p[a] / static_cast<double>(plc.points.size());
+  double sum = 0.0;
+  for (const auto& f : plc.facets) {
+    double m[3][3];
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) m[k][a] = plc.points[static_cast<std::size_t>(f[static_cast<std::size_t>(k)])][a] - c[a];
+    const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    sum += std::abs(det) / 6.0;
+  }
+  return sum;
+}
 
 Plc make_plc(const Complex& complex) {
   Plc plc;
@@ -272,6 +300,7 @@ TetgenOutput run_tetgen(tetgenio& in, std::string switches) {
     if (messages) std::fclose(messages);
     return result;
   }
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     result.failure = "cannot start a process for TetGen";
@@ -281,6 +310,10 @@ TetgenOutput run_tetgen(tetgenio& in, std::string switches) {
     return result;
   }
   if (pid == 0) {
+    // TetGen dies with the program: a killed `immerse` (SIGTERM, SIGKILL) must not leave its
+    // refinement running as an orphan (it grew by ~16 MB/s until memory ran out).
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(1);
     ::close(fds[0]);
     if (messages) {
       ::dup2(::fileno(messages), 1);
@@ -543,11 +576,39 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
     if (options.min_dihedral > 0) switches += "/" + format_number(options.min_dihedral);
   }
   const double h = options.edge_length;
-  switches += "a" + format_number(h * h * h / (6.0 * std::sqrt(2.0)));
+  const double volume_bound = h * h * h / (6.0 * std::sqrt(2.0));
+  switches += "a" + format_number(volume_bound);
+  // Bounded work (issue 13). The tets the volume bound asks for: the domain TetGen fills lies
+  // inside the cones from the centroid to the cut triangles (a ray from the centroid through an
+  // enclosed point leaves through a triangle beyond it), so their volume bounds it. A tiny edge
+  // length is refused here, before TetGen runs out of memory.
+  const double estimate = plc_volume_bound(plc) / volume_bound;
+  if (!(estimate <= kMaxConformingTets)) {
+    std::ostringstream msg;
+    msg << "edge length " << h << " would fill the input (volume at most " << plc_volume_bound(plc) << ") with about "
+        << std::setprecision(3) << estimate << " tets; at most " << kMaxConformingTets << " (raise the edge length)";
+    result.report.add(defect(DefectKind::OutOfRange, msg.str()));
+    return result;
+  }
+  // Quality refinement need not end: TetGen may not move the preserved cut triangles, and a
+  // dihedral bound above ~20 degrees next to them (25 on tube-overlap) made it insert points
+  // forever. -S caps the Steiner points (the meshes that finish are the same); reaching the cap
+  // is a refusal, said below.
+  const std::size_t steiner_cap = kSteinerPerTet * static_cast<std::size_t>(estimate) + kSteinerExtra;
+  switches += "S" + std::to_string(steiner_cap);
   TetgenOutput out = run_tetgen(in, switches);
   if (!out.failure.empty()) {
     result.report.add(defect(DefectKind::OutOfRange, "TetGen (-" + switches +
                                                          ") could not tetrahedralize the rounded cut mesh: " + out.failure));
+    return result;
+  }
+  if (out.points.size() / 3 >= plc.points.size() + steiner_cap) {
+    std::ostringstream msg;
+    msg << "TetGen (-" << switches << ") stopped refining after " << steiner_cap
+        << " added points: the quality bound (radius-edge " << options.radius_edge;
+    if (options.min_dihedral > 0) msg << ", minimum dihedral " << options.min_dihedral << " degrees";
+    msg << ") is not reachable next to the preserved cut triangles; lower it";
+    result.report.add(defect(DefectKind::OutOfRange, msg.str()));
     return result;
   }
   stats.seconds_tetgen = seconds_since(start);

@@ -58,6 +58,11 @@ py::array_t<long long, py::array::c_style> index_matrix(const py::handle& object
 immersion::Surface make_surface(const py::handle& V, const py::handle& F, const std::string& name) {
   const auto v = real_matrix(V, 3, "V");
   const auto f = index_matrix(F, "F");
+  // Unsigned indices past 2^63 wrap to negatives in the cast above: read them as they were.
+  py::array raw = py::array::ensure(F);
+  const bool is_unsigned = raw.dtype().kind() == 'u';
+  using Unsigned = py::array_t<unsigned long long, py::array::c_style | py::array::forcecast>;
+  const Unsigned unsigned_f = is_unsigned ? Unsigned::ensure(raw) : Unsigned();
   immersion::Surface s;
   s.name = name;
   s.vertices.resize(static_cast<std::size_t>(v.shape(0)));
@@ -68,9 +73,15 @@ immersion::Surface make_surface(const py::handle& V, const py::handle& F, const 
     std::array<int, 3> tri{};
     for (int k = 0; k < 3; ++k) {
       const long long i = fa(t, k);
-      // Out of range indices are the library's defect (named with the triangle); only clamp what
-      // does not fit an int so that the library sees an out-of-range value.
-      tri[k] = i < 0 || i > std::numeric_limits<int>::max() ? -1 : static_cast<int>(i);
+      // Out of range indices are the library's defect (named with the triangle); an index that
+      // does not fit an int is named here, as given (it was reported as vertex -1).
+      if (i < std::numeric_limits<int>::min() || i > std::numeric_limits<int>::max() || (is_unsigned && i < 0)) {
+        const std::string index =
+            is_unsigned ? std::to_string(unsigned_f.template unchecked<2>()(t, k)) : std::to_string(i);
+        invalid("F: triangle " + std::to_string(t) + " refers to vertex " + index + ", but there are " +
+                std::to_string(v.shape(0)) + " vertices");
+      }
+      tri[k] = static_cast<int>(i);
     }
     s.triangles.push_back(tri);
   }

@@ -181,6 +181,30 @@ class Arrays3D(Fixture):
         with self.assertRaises(immersion.InvalidInput) as e:
             immersion.find_immersions(immersion.Surface(V, out_of_range))
         self.assertIn("triangle 5 refers to vertex 8", str(e.exception))
+        # Indices past an int were named "vertex -1" (clamped); uint64 past 2^63 wrapped.
+        for dtype, index in ((np.int64, 2**40), (np.uint64, 2**64 - 1), (np.uint64, 2**63 + 5)):
+            huge = F.astype(dtype)
+            huge[5, 2] = index
+            with self.assertRaises(immersion.InvalidInput) as e:
+                immersion.find_immersions(immersion.Surface(V, huge))
+            self.assertIn("triangle 5 refers to vertex %d" % index, str(e.exception))
+
+    def test_mesh_options_are_bounded_like_the_program(self):
+        # resolution 0 failed an internal invariant (InternalError), 10**6 an allocation check, and
+        # threads=10**9 allocated per-thread scratch until the process was killed.
+        V, F = cube()
+        found = immersion.find_immersions(immersion.Surface(V, F))
+        for options, text in ((dict(resolution=0), "resolution expects 1..150, got 0"),
+                              (dict(resolution=10**6), "resolution expects 1..150"),
+                              (dict(threads=10**9), "threads: at most 1024")):
+            with self.assertRaises(immersion.InvalidInput) as e:
+                immersion.mesh_immersion(found, **options)
+            self.assertIn(text, str(e.exception))
+        with self.assertRaises(immersion.InvalidInput) as e:
+            immersion.find_immersions(immersion.Surface(V, F), threads=10**9)
+        self.assertIn("threads: at most 1024", str(e.exception))
+        with self.assertRaises(immersion.InvalidInput):
+            immersion.mesh_immersion(immersion.find_immersions(immersion.Curves(squares())), resolution=0)
 
     def test_open_surface_message_is_the_programs(self):
         V, F = cube()

@@ -57,6 +57,43 @@ int main(int argc, char** argv) {
   const immersion::SimplexMesh<3> mesh = immersion::mesh_immersion(found, options);
   check(!mesh.elements.empty() && mesh.node.size() == mesh.elements.size(), "3D mesh");
   check(mesh.embedding_element.size() == surface.vertices.size(), "3D embedding size");
+  // Bad values are InvalidInput, as the program's exit 2/64, never an internal error, a corrupt
+  // file or a runaway allocation (resolution 0 failed an invariant, threads = 10^9 was killed,
+  // a NaN time limit was taken, out-of-range element indices were written as they were).
+  const auto invalid = [&](const std::string& what, auto&& f) {
+    try {
+      f();
+      check(false, what + ": no exception");
+    } catch (const immersion::Error& e) {
+      check(e.kind() == immersion::ErrorKind::InvalidInput, what + ": " + e.what());
+    }
+  };
+  invalid("resolution 0", [&] {
+    immersion::MeshOptions o;
+    o.resolution = 0;
+    (void)immersion::mesh_immersion(found, o);
+  });
+  invalid("threads 10^9", [&] {
+    immersion::MeshOptions o;
+    o.threads = 1'000'000'000;
+    (void)immersion::mesh_immersion(found, o);
+  });
+  invalid("NaN time limit", [&] {
+    immersion::SearchOptions o;
+    o.time_limit_seconds = 0.0 / 0.0;
+    (void)immersion::find_immersions(surface, o);
+  });
+  invalid("element out of range", [&] {
+    immersion::SimplexMesh<3> bad = mesh;
+    bad.elements[0][2] = static_cast<int>(bad.vertices.size());
+    immersion::write_mesh(bad, "bad.mesh");
+  });
+  invalid("nodes missing", [&] {
+    immersion::SimplexMesh<3> bad = mesh;
+    bad.node.pop_back();
+    immersion::write_mesh(bad, "bad.msh");
+  });
+
   std::printf("immersion %s: 2D %zu triangles; 3D %zu cells, %zu immersion(s), %zu tets, %zu vertices\n",
               immersion::version().c_str(), mesh2.elements.size(), found.complex.cell_count(),
               found.graphs.size(), mesh.elements.size(), mesh.vertices.size());
