@@ -155,7 +155,9 @@ class VirtualTets {
     for (const Point& p : *input_points_) input_intervals_.push_back(CGAL::approx(p));
     for (std::uint32_t i = 0; i < m_.pieces.size(); ++i)
       arc_edge_.emplace(edge_key(m_.pieces[i].points[0], m_.pieces[i].points[1]), i);
+    StageClock clock;
     find_candidates();
+    out_.seconds_candidates = clock.next();
     out_.vertices.resize(c_.surface.vertex_count());
     triangle_has_polygon_.assign(m_.triangles.size(), 0);
     face_region_.assign(4 * bg_.tets.size(), kNone);
@@ -215,9 +217,12 @@ class VirtualTets {
     out_.finish();
     out_.exact_tets = exact_tets;
     for (double s : exact_seconds) out_.seconds_exact += s;
+    out_.seconds_tets = clock.next();
     connect_faces();
+    out_.seconds_faces = clock.next();
     if (!report_.ok()) return std::move(out_);
     resolve_regions();
+    out_.seconds_regions = clock.next();
     check_coverage();
     return std::move(out_);
   }
@@ -371,14 +376,31 @@ class VirtualTets {
         const CGAL::Bbox_3 b = corner(x, 0).bbox() + corner(x, 1).bbox() + corner(x, 2).bbox();
         std::array<std::size_t, 3> from{}, to{};
         cell_range(CGAL::Bbox_3(b.xmin() - cell, b.ymin() - cell, b.zmin() - cell, b.xmax(), b.ymax(), b.zmax()), from,
-                   to);
+                   to);  // rounded to nearest, as the binning
+        const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
+        // The triangle's plane in intervals: a tet whose four corners are certainly strictly on
+        // one side of it cannot meet the triangle (clipping would give an empty polygon), so it
+        // is no candidate. Uncertain signs keep the pair.
+        const IK::Point_3& a = corner_in<IK>(x, 0);
+        const IK::Vector_3 normal = CGAL::cross_product(corner_in<IK>(x, 1) - a, corner_in<IK>(x, 2) - a);
+        const auto plane_side = [&](std::uint32_t t) {
+          int side = 0;
+          for (int k = 0; k < 4; ++k) {
+            const Point3& p = bg_.vertices[static_cast<std::size_t>(bg_.tets[t][k])];
+            const IK::FT value = normal.x() * (p[0] - a.x()) + normal.y() * (p[1] - a.y()) + normal.z() * (p[2] - a.z());
+            const int s = value.inf() > 0 ? 1 : value.sup() < 0 ? -1 : 0;
+            if (s == 0 || (side != 0 && s != side)) return 0;
+            side = s;
+          }
+          return side;
+        };
         for (std::size_t i = from[0]; i <= to[0]; ++i)
           for (std::size_t j = from[1]; j <= to[1]; ++j)
             for (std::size_t k = from[2]; k <= to[2]; ++k) {
               const std::size_t c = cell_id(i, j, k);
               for (std::uint32_t n = cell_first[c]; n < cell_first[c + 1]; ++n) {
                 const std::uint32_t t = cell_tets[n];
-                if (CGAL::do_overlap(b, tet_box(t))) found[slice].emplace_back(t, x);
+                if (CGAL::do_overlap(b, tet_box(t)) && plane_side(t) == 0) found[slice].emplace_back(t, x);
               }
             }
       }
@@ -844,42 +866,51 @@ class VirtualTets {
       for (std::uint32_t t = 0; t < tet_count; ++t)
         for (int v : bg_.tets[t]) star[next[static_cast<std::size_t>(v)]++] = t;
     }
-    // Neighbour across face (t, f): 4 s + g, or a mark. A tet sharing a face with t shares its
-    // vertex 0 (faces 1-3) or vertex 1 (face 0): two stars are scanned per tet.
+    // Neighbour across face (t, f): 4 s + g, or a mark. Every face is paired at its smallest
+    // vertex: the faces there whose smallest vertex it is, sorted by their other two vertices
+    // (a few dozen per vertex), pair up. Vertices are independent: all threads.
     constexpr std::uint32_t kBoundaryFace = kNone, kSharedByMore = kNone - 1;
     std::vector<std::uint32_t> neighbour(4 * tet_count);
-    parallel_for(threads_, tet_count, [&](std::size_t i, unsigned) {
-      const auto t = static_cast<std::uint32_t>(i);
-      const Tet& tet = bg_.tets[t];
-      std::array<std::uint32_t, 4> found{kBoundaryFace, kBoundaryFace, kBoundaryFace, kBoundaryFace};
-      std::array<int, 4> sharing{1, 1, 1, 1};
-      for (int pivot = 0; pivot < 2; ++pivot) {
-        const auto v = static_cast<std::size_t>(tet[pivot]);
+    struct StarFace {
+      std::array<int, 2> rest;  ///< the face's two larger vertices
+      std::uint32_t face;       ///< 4 t + f
+    };
+    const std::size_t vertex_count = bg_.vertices.size();
+    constexpr std::size_t kVertexChunk = 4096;
+    parallel_for(threads_, (vertex_count + kVertexChunk - 1) / kVertexChunk, [&](std::size_t chunk, unsigned) {
+      std::vector<StarFace> faces;
+      for (std::size_t v = chunk * kVertexChunk; v < std::min(vertex_count, (chunk + 1) * kVertexChunk); ++v) {
+        faces.clear();
         for (std::uint32_t n = star_first[v]; n < star_first[v + 1]; ++n) {
-          const std::uint32_t other = star[n];
-          if (other == t) continue;
-          const Tet& o = bg_.tets[other];
-          unsigned mask = 0;  // bit k: tet's vertex k is a vertex of `other`
-          int outside = -1;   // other's vertex off the shared face
-          for (int k = 0; k < 4; ++k) {
-            int at = -1;
-            for (int j = 0; j < 4; ++j)
-              if (o[k] == tet[j]) at = j;
-            if (at < 0) {
-              outside = k;
-            } else {
-              mask |= 1u << at;
+          const std::uint32_t t = star[n];
+          const Tet& tet = bg_.tets[t];
+          const int at = tet[0] == static_cast<int>(v) ? 0 : tet[1] == static_cast<int>(v) ? 1 : tet[2] == static_cast<int>(v) ? 2 : 3;
+          // The three faces of t through v: each leaves out one other vertex.
+          for (int f = 0; f < 4; ++f) {
+            if (f == at) continue;
+            int b = -1, c = -1;
+            for (int k = 0; k < 4; ++k) {
+              if (k == at || k == f) continue;
+              (b < 0 ? b : c) = tet[k];
             }
+            if (b < static_cast<int>(v) || c < static_cast<int>(v)) continue;  // not its smallest vertex
+            faces.push_back({{std::min(b, c), std::max(b, c)}, 4 * t + static_cast<std::uint32_t>(f)});
           }
-          if (std::popcount(mask) != 3) continue;
-          const int f = std::countr_zero(~mask & 15u);  // the face opposite the missing vertex
-          if (pivot == 1 && f != 0) continue;           // seen from vertex 0 already
-          ++sharing[f];
-          found[f] = 4 * other + static_cast<std::uint32_t>(outside);
+        }
+        std::sort(faces.begin(), faces.end(), [](const StarFace& a, const StarFace& b) {
+          return std::tie(a.rest, a.face) < std::tie(b.rest, b.face);
+        });
+        for (std::size_t i = 0; i < faces.size();) {
+          std::size_t j = i + 1;
+          while (j < faces.size() && faces[j].rest == faces[i].rest) ++j;
+          for (std::size_t k = i; k < j; ++k)
+            neighbour[faces[k].face] = j - i == 1 ? kBoundaryFace
+                                       : j - i == 2 ? faces[i + (k == i ? 1 : 0)].face
+                                                    : kSharedByMore;
+          i = j;
         }
       }
-      for (int f = 0; f < 4; ++f) neighbour[4 * t + f] = sharing[f] > 2 ? kSharedByMore : found[f];
-    }, /*grain=*/4096);
+    }, /*grain=*/1);
     // Defects and boundary faces, in face-key order as the coverage check reports them.
     std::vector<std::pair<std::array<int, 3>, std::uint32_t>> shared_by_more, boundary;
     for (std::uint32_t i = 0; i < 4 * tet_count; ++i) {
