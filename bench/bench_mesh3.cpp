@@ -104,6 +104,36 @@ const std::optional<Mesh3Input>& quintuple_input(std::string& error) {
   return input;
 }
 
+/// Per-stage counters (dim3::MeshStats' stage clocks): wall (s_*), CPU over all threads (cpu_s_*),
+/// the calling thread's CPU (serial_s_*, the serial part on two threads or more), CPU per
+/// background tet (per cut tet for the tets' clipping), and the serial fraction of the stages.
+void add_stage_counters(benchmark::State& state, const dim3::MeshStats& stats) {
+  const auto background = static_cast<double>(stats.background_tets);
+  const auto cut = static_cast<double>(std::max<std::size_t>(stats.cut_tets, 1));
+  const double mesh_seconds = stats.seconds_background + stats.seconds_virtual + stats.seconds_assembly;
+  state.counters["ns_per_bg_tet"] = 1e9 * mesh_seconds / background;
+  const std::pair<const char*, dim3::StageSeconds> stages[] = {
+      {"candidates", stats.seconds_candidates}, {"tets", stats.seconds_tets},
+      {"faces", stats.seconds_faces},           {"regions", stats.seconds_regions},
+      {"atoms", stats.seconds_atoms},           {"unglue", stats.seconds_unglue},
+      {"emit", stats.seconds_emit}};
+  // The background (generated or read) is one sequential step: serial throughout.
+  double cpu_sum = stats.seconds_background, serial_sum = stats.seconds_background;
+  for (const auto& [name, seconds] : stages) {
+    cpu_sum += seconds.cpu;
+    serial_sum += seconds.serial;
+    state.counters[std::string("s_") + name] = seconds.wall;
+    state.counters[std::string("cpu_s_") + name] = seconds.cpu;
+    state.counters[std::string("serial_s_") + name] = seconds.serial;
+    // The clipping of the cut tets is per cut tet; every other stage is per background tet (CPU).
+    const bool per_cut = std::string(name) == "tets";
+    state.counters[std::string(per_cut ? "cpu_ns_per_cut_" : "cpu_ns_per_bg_") + name] =
+        1e9 * seconds.cpu / (per_cut ? cut : background);
+  }
+  // The caller's share of the stages' CPU: their serial fraction (on two threads or more).
+  if (cpu_sum > 0.0) state.counters["serial_fraction"] = serial_sum / cpu_sum;
+}
+
 /// One mesh_immersion call per iteration; the counters of the last one.
 void run_mesh(benchmark::State& state, const Mesh3Input& input, const dim3::MeshOptions& options) {
   dim3::MeshStats stats;
@@ -116,6 +146,7 @@ void run_mesh(benchmark::State& state, const Mesh3Input& input, const dim3::Mesh
     benchmark::DoNotOptimize(r.mesh.tets.data());
     stats = std::move(r.stats);
   }
+  add_stage_counters(state, stats);
   state.counters["triangles"] = static_cast<double>(input.immersed.surface.triangle_count());
   state.counters["cut_triangles"] = static_cast<double>(input.complex().cut_triangles.size());
   state.counters["background_tets"] = static_cast<double>(stats.background_tets);
@@ -150,9 +181,16 @@ void BM_Mesh3_QuintupleTorusVeg(benchmark::State& state) {
   }
   dim3::MeshOptions options;
   options.background_path = shared_path(kQuintupleVeg);
+  options.threads = static_cast<unsigned>(state.range(0));
   run_mesh(state, *input, options);
 }
-BENCHMARK(BM_Mesh3_QuintupleTorusVeg)->Iterations(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Mesh3_QuintupleTorusVeg)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // ---- the double-precision baseline -------------------------------------------------------------
 
@@ -419,36 +457,15 @@ void BM_Mesh3_Scale(benchmark::State& state) {
   }
   const double peak_kb = process_cpu_and_peak().second;
   const auto background = static_cast<double>(stats.background_tets);
-  const auto cut = static_cast<double>(std::max<std::size_t>(stats.cut_tets, 1));
   state.counters["background_tets"] = background;
   state.counters["cut_tets"] = static_cast<double>(stats.cut_tets);
   state.counters["output_tets"] = static_cast<double>(stats.output_tets);
   state.counters["cpu_s"] = cpu / static_cast<double>(state.iterations());
   state.counters["peak_MB"] = peak_kb / 1024.0;
+  state.counters["cpu_ns_per_bg_tet"] = 1e9 * state.counters["cpu_s"].value / background;
   state.counters["B_per_bg_tet"] = peak_kb * 1024.0 / background;
   state.counters["B_per_out_tet"] = peak_kb * 1024.0 / static_cast<double>(std::max<std::size_t>(stats.output_tets, 1));
-  const double mesh_seconds = stats.seconds_background + stats.seconds_virtual + stats.seconds_assembly;
-  state.counters["ns_per_bg_tet"] = 1e9 * mesh_seconds / background;
-  state.counters["cpu_ns_per_bg_tet"] = 1e9 * state.counters["cpu_s"].value / background;
-  const std::pair<const char*, dim3::StageSeconds> stages[] = {
-      {"candidates", stats.seconds_candidates}, {"tets", stats.seconds_tets},
-      {"faces", stats.seconds_faces},           {"regions", stats.seconds_regions},
-      {"atoms", stats.seconds_atoms},           {"unglue", stats.seconds_unglue},
-      {"emit", stats.seconds_emit}};
-  double cpu_sum = 0.0, serial_sum = 0.0;
-  for (const auto& [name, seconds] : stages) {
-    cpu_sum += seconds.cpu;
-    serial_sum += seconds.serial;
-    state.counters[std::string("s_") + name] = seconds.wall;
-    state.counters[std::string("cpu_s_") + name] = seconds.cpu;
-    state.counters[std::string("serial_s_") + name] = seconds.serial;
-    // The clipping of the cut tets is per cut tet; every other stage is per background tet (CPU).
-    const bool per_cut = std::string(name) == "tets";
-    state.counters[std::string(per_cut ? "cpu_ns_per_cut_" : "cpu_ns_per_bg_") + name] =
-        1e9 * seconds.cpu / (per_cut ? cut : background);
-  }
-  // The caller's share of the stages' CPU: their serial fraction (on two threads or more).
-  if (cpu_sum > 0.0) state.counters["serial_fraction"] = serial_sum / cpu_sum;
+  add_stage_counters(state, stats);
 }
 BENCHMARK(BM_Mesh3_Scale)
     ->ArgNames({"threads", "resolution"})

@@ -252,12 +252,16 @@ class VirtualTets {
   /// Appends tets from .. to-1, which no cut triangle's box meets: one local region each, of a
   /// region found later (resolve_regions), no traces.
   void append_uncut(std::uint32_t from, std::uint32_t to) {
-    for (std::uint32_t t = from; t < to; ++t) {
-      out_.first.push_back(static_cast<std::uint32_t>(out_.region.size()));
-      out_.region.emplace_back();
-      out_.element.push_back(t);
-      trace_first_.push_back(static_cast<std::uint32_t>(traces_.size()));
+    if (from >= to) return;
+    const std::size_t n = to - from, base = out_.region.size(), first = out_.first.size();
+    out_.first.resize(first + n);
+    out_.element.resize(base + n);
+    for (std::size_t k = 0; k < n; ++k) {
+      out_.first[first + k] = static_cast<std::uint32_t>(base + k);
+      out_.element[base + k] = static_cast<std::uint32_t>(from + k);
     }
+    out_.region.resize(base + n);  // unknown: resolve_regions
+    trace_first_.resize(trace_first_.size() + n, static_cast<std::uint32_t>(traces_.size()));
   }
 
   /// The box of background tet t, from its double coordinates (exact: they are the points).
@@ -855,16 +859,28 @@ class VirtualTets {
       std::sort(key.begin(), key.end());
       return key;
     };
-    // Tets around each background vertex, in tet order.
+    // Tets around each background vertex (a counting sort on all threads with atomic counters: the
+    // order inside a star varies, but the faces at a vertex are sorted before they pair).
+    constexpr std::size_t kTetChunk = 16384;
+    const std::size_t tet_chunks = (tet_count + kTetChunk - 1) / kTetChunk;
     std::vector<std::uint32_t> star_first(bg_.vertices.size() + 1, 0);
-    for (const Tet& tet : bg_.tets)
-      for (int v : tet) ++star_first[static_cast<std::size_t>(v) + 1];
+    parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
+      for (std::size_t t = chunk * kTetChunk; t < std::min(tet_count, (chunk + 1) * kTetChunk); ++t)
+        for (int v : bg_.tets[t])
+          std::atomic_ref<std::uint32_t>(star_first[static_cast<std::size_t>(v) + 1]).fetch_add(1, std::memory_order_relaxed);
+    }, /*grain=*/1);
     for (std::size_t v = 0; v + 1 < star_first.size(); ++v) star_first[v + 1] += star_first[v];
     std::vector<std::uint32_t> star(star_first.back());
     {
       std::vector<std::uint32_t> next(star_first.begin(), star_first.end() - 1);
-      for (std::uint32_t t = 0; t < tet_count; ++t)
-        for (int v : bg_.tets[t]) star[next[static_cast<std::size_t>(v)]++] = t;
+      parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
+        for (std::size_t t = chunk * kTetChunk; t < std::min(tet_count, (chunk + 1) * kTetChunk); ++t)
+          for (int v : bg_.tets[t]) {
+            const std::uint32_t at =
+                std::atomic_ref<std::uint32_t>(next[static_cast<std::size_t>(v)]).fetch_add(1, std::memory_order_relaxed);
+            star[at] = static_cast<std::uint32_t>(t);
+          }
+      }, /*grain=*/1);
     }
     // Neighbour across face (t, f): 4 s + g, or a mark. Every face is paired at its smallest
     // vertex: the faces there whose smallest vertex it is, sorted by their other two vertices
@@ -913,9 +929,20 @@ class VirtualTets {
     }, /*grain=*/1);
     // Defects and boundary faces, in face-key order as the coverage check reports them.
     std::vector<std::pair<std::array<int, 3>, std::uint32_t>> shared_by_more, boundary;
-    for (std::uint32_t i = 0; i < 4 * tet_count; ++i) {
-      if (neighbour[i] == kBoundaryFace) boundary.emplace_back(key_of(i / 4, static_cast<int>(i % 4)), i);
-      if (neighbour[i] == kSharedByMore) shared_by_more.emplace_back(key_of(i / 4, static_cast<int>(i % 4)), i);
+    {
+      std::vector<std::vector<std::pair<std::array<int, 3>, std::uint32_t>>> chunk_boundary(tet_chunks),
+          chunk_shared(tet_chunks);
+      parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
+        for (std::size_t i = 4 * chunk * kTetChunk; i < 4 * std::min(tet_count, (chunk + 1) * kTetChunk); ++i) {
+          const auto face = static_cast<std::uint32_t>(i);
+          if (neighbour[i] == kBoundaryFace) chunk_boundary[chunk].emplace_back(key_of(face / 4, static_cast<int>(face % 4)), face);
+          if (neighbour[i] == kSharedByMore) chunk_shared[chunk].emplace_back(key_of(face / 4, static_cast<int>(face % 4)), face);
+        }
+      }, /*grain=*/1);
+      for (std::size_t chunk = 0; chunk < tet_chunks; ++chunk) {
+        boundary.insert(boundary.end(), chunk_boundary[chunk].begin(), chunk_boundary[chunk].end());
+        shared_by_more.insert(shared_by_more.end(), chunk_shared[chunk].begin(), chunk_shared[chunk].end());
+      }
     }
     std::sort(shared_by_more.begin(), shared_by_more.end());
     for (std::size_t i = 0; i < shared_by_more.size();) {
