@@ -57,7 +57,9 @@ struct StageSeconds {
 
 struct MeshStats {
   std::size_t background_tets = 0;
-  std::size_t candidate_pairs = 0;  ///< (tet, cut triangle) pairs with overlapping boxes
+  /// (tet, cut triangle) pairs with overlapping boxes, the tet not certainly on one side of the
+  /// triangle's plane (clipping: interval signs; CSG: boxes only)
+  std::size_t candidate_pairs = 0;
   std::size_t polygons = 0;         ///< clipped polygons
   std::size_t pieces = 0;
   std::size_t cut_tets = 0;         ///< background tets with two or more local regions

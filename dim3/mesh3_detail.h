@@ -40,7 +40,9 @@ struct LocalRegions : imm::LocalRegions<3> {
   };
   std::vector<Embedded> embedded;
 
-  std::size_t candidate_pairs = 0;  ///< (tet, cut triangle) pairs with overlapping boxes
+  /// (tet, cut triangle) pairs with overlapping boxes, the tet not certainly on one side of the
+  /// triangle's plane (clipping: interval signs; CSG: boxes only)
+  std::size_t candidate_pairs = 0;
   std::size_t polygons = 0;         ///< clipped polygons of positive area
   std::size_t pieces = 0;           ///< connected components of the input inside tets
   std::size_t side_tests = 0;       ///< "which side of a piece" tests
