@@ -23,9 +23,17 @@
 //  BM_Mesh3_SurfaceSize/sides     helix(4, sides) (5 sides^2 * 4 + 14 sides triangles, the same
 //                                 shape and box for every size) on a fixed 32-cube grid: scaling
 //                                 with the surface. SetComplexityN = triangles.
+//  BM_Mesh3_Scale/threads/resolution  two_tori(160) (102,400 triangles; the 2.53 M-tet case of
+//                                 BENCHMARKS.md at resolution 125) on growing generated grids,
+//                                 1 or 2 threads (issue 17): the size ladder. Counters: the
+//                                 stage times (wall), each per background tet and per cut tet
+//                                 (ns_*), process CPU seconds, peak RSS (MB; the process's peak,
+//                                 so run one size per process with --benchmark_filter) and bytes
+//                                 of peak RSS per background and per output tet.
 // Inputs (surface, complex with volumes in doubles, first immersion) are built outside the timed
 // loop. Every family uses real (wall) time, since the exact stage may run on several threads.
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
 
 #include <CGAL/box_intersection_d.h>
 
@@ -36,6 +44,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "dim3/generators3.h"
@@ -95,6 +104,36 @@ const std::optional<Mesh3Input>& quintuple_input(std::string& error) {
   return input;
 }
 
+/// Per-stage counters (dim3::MeshStats' stage clocks): wall (s_*), CPU over all threads (cpu_s_*),
+/// the calling thread's CPU (serial_s_*, the serial part on two threads or more), CPU per
+/// background tet (per cut tet for the tets' clipping), and the serial fraction of the stages.
+void add_stage_counters(benchmark::State& state, const dim3::MeshStats& stats) {
+  const auto background = static_cast<double>(stats.background_tets);
+  const auto cut = static_cast<double>(std::max<std::size_t>(stats.cut_tets, 1));
+  const double mesh_seconds = stats.seconds_background + stats.seconds_virtual + stats.seconds_assembly;
+  state.counters["ns_per_bg_tet"] = 1e9 * mesh_seconds / background;
+  const std::pair<const char*, dim3::StageSeconds> stages[] = {
+      {"candidates", stats.seconds_candidates}, {"tets", stats.seconds_tets},
+      {"faces", stats.seconds_faces},           {"regions", stats.seconds_regions},
+      {"atoms", stats.seconds_atoms},           {"unglue", stats.seconds_unglue},
+      {"emit", stats.seconds_emit}};
+  // The background (generated or read) is one sequential step: serial throughout.
+  double cpu_sum = stats.seconds_background, serial_sum = stats.seconds_background;
+  for (const auto& [name, seconds] : stages) {
+    cpu_sum += seconds.cpu;
+    serial_sum += seconds.serial;
+    state.counters[std::string("s_") + name] = seconds.wall;
+    state.counters[std::string("cpu_s_") + name] = seconds.cpu;
+    state.counters[std::string("serial_s_") + name] = seconds.serial;
+    // The clipping of the cut tets is per cut tet; every other stage is per background tet (CPU).
+    const bool per_cut = std::string(name) == "tets";
+    state.counters[std::string(per_cut ? "cpu_ns_per_cut_" : "cpu_ns_per_bg_") + name] =
+        1e9 * seconds.cpu / (per_cut ? cut : background);
+  }
+  // The caller's share of the stages' CPU: their serial fraction (on two threads or more).
+  if (cpu_sum > 0.0) state.counters["serial_fraction"] = serial_sum / cpu_sum;
+}
+
 /// One mesh_immersion call per iteration; the counters of the last one.
 void run_mesh(benchmark::State& state, const Mesh3Input& input, const dim3::MeshOptions& options) {
   dim3::MeshStats stats;
@@ -107,6 +146,7 @@ void run_mesh(benchmark::State& state, const Mesh3Input& input, const dim3::Mesh
     benchmark::DoNotOptimize(r.mesh.tets.data());
     stats = std::move(r.stats);
   }
+  add_stage_counters(state, stats);
   state.counters["triangles"] = static_cast<double>(input.immersed.surface.triangle_count());
   state.counters["cut_triangles"] = static_cast<double>(input.complex().cut_triangles.size());
   state.counters["background_tets"] = static_cast<double>(stats.background_tets);
@@ -122,6 +162,14 @@ void run_mesh(benchmark::State& state, const Mesh3Input& input, const dim3::Mesh
     state.counters["virtual_tets_per_s"] = static_cast<double>(stats.background_tets) / stats.seconds_virtual;
 }
 
+/// Process CPU seconds (all threads) and peak resident set (KB) so far.
+std::pair<double, double> process_cpu_and_peak() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  return {seconds(usage.ru_utime) + seconds(usage.ru_stime), static_cast<double>(usage.ru_maxrss)};
+}
+
 // ---- the quintuple torus on its .veg -----------------------------------------------------------
 
 void BM_Mesh3_QuintupleTorusVeg(benchmark::State& state) {
@@ -133,9 +181,16 @@ void BM_Mesh3_QuintupleTorusVeg(benchmark::State& state) {
   }
   dim3::MeshOptions options;
   options.background_path = shared_path(kQuintupleVeg);
+  options.threads = static_cast<unsigned>(state.range(0));
   run_mesh(state, *input, options);
 }
-BENCHMARK(BM_Mesh3_QuintupleTorusVeg)->Iterations(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Mesh3_QuintupleTorusVeg)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // ---- the double-precision baseline -------------------------------------------------------------
 
@@ -373,6 +428,51 @@ BENCHMARK(BM_Mesh3_SurfaceSize)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Complexity();
+
+// ---- meshing at scale (issue 17) -------------------------------------------------------------
+
+void BM_Mesh3_Scale(benchmark::State& state) {
+  static std::string error;
+  static const std::optional<Mesh3Input> input = prepare(dim3::two_tori(160), error);
+  if (!input) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  dim3::MeshOptions options;
+  options.threads = static_cast<unsigned>(state.range(0));
+  options.resolution = static_cast<int>(state.range(1));
+  dim3::MeshStats stats;
+  double cpu = 0.0;
+  for (auto _ : state) {
+    const double cpu_start = process_cpu_and_peak().first;
+    dim3::MeshResult r =
+        dim3::mesh_immersion(input->complex(), input->immersion(), options, input->immersed.input_vertices);
+    cpu += process_cpu_and_peak().first - cpu_start;
+    if (!r.report.ok()) {
+      state.SkipWithError(("meshing failed: " + r.report.summary()).c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(r.mesh.tets.data());
+    stats = std::move(r.stats);
+  }
+  const double peak_kb = process_cpu_and_peak().second;
+  const auto background = static_cast<double>(stats.background_tets);
+  state.counters["background_tets"] = background;
+  state.counters["cut_tets"] = static_cast<double>(stats.cut_tets);
+  state.counters["output_tets"] = static_cast<double>(stats.output_tets);
+  state.counters["cpu_s"] = cpu / static_cast<double>(state.iterations());
+  state.counters["peak_MB"] = peak_kb / 1024.0;
+  state.counters["cpu_ns_per_bg_tet"] = 1e9 * state.counters["cpu_s"].value / background;
+  state.counters["B_per_bg_tet"] = peak_kb * 1024.0 / background;
+  state.counters["B_per_out_tet"] = peak_kb * 1024.0 / static_cast<double>(std::max<std::size_t>(stats.output_tets, 1));
+  add_stage_counters(state, stats);
+}
+BENCHMARK(BM_Mesh3_Scale)
+    ->ArgNames({"threads", "resolution"})
+    ->ArgsProduct({{1, 2}, {64, 125, 160, 200}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace imm::bench

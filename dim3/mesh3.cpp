@@ -97,6 +97,7 @@ void assemble(const Complex& complex, const Immersion& immersion, const TetMesh&
               bool record_contents, MeshResult& result) {
   const CellComplex<3>& cc = complex.complex;
   const NodeLayout& layout = immersion.layout;
+  StageClock clock;
   // 3. Atoms, fusions and adjacencies for the driver.
   std::vector<std::array<std::int32_t, 4>> elements;
   elements.reserve(background.tets.size());
@@ -106,8 +107,10 @@ void assemble(const Complex& complex, const Immersion& immersion, const TetMesh&
   const UnglueInput<3>& input = expansion.input();
   const auto atom_of = [&](std::uint32_t lr, NodeId node) { return expansion.atom(lr, node); };
 
+  result.stats.seconds_atoms = clock.next();
   // 4. Duplicate and connect.
   const UnglueResult<3> unglued = unglue<3>(input);
+  result.stats.seconds_unglue = clock.next();
   const std::vector<char> helper_node = helper_nodes(complex, immersion, input_triangles);
   TetMesh& mesh = result.mesh;
   EmittedCopies emitted = emit_copies(unglued, helper_node, layout, cc.cell_count(), background.vertices, mesh,
@@ -116,6 +119,7 @@ void assemble(const Complex& complex, const Immersion& immersion, const TetMesh&
   result.background_tet = std::move(emitted.source_element);
   result.stats.output_tets = mesh.tets.size();
   result.stats.output_vertices = mesh.vertices.size();
+  result.stats.seconds_emit = clock.next();
 
   // 5. Embedding: each input vertex goes into the copy holding the owner of its patch, on the
   // patch's inner side (the owner's copy of the patch is the boundary of the immersed solid).
@@ -257,6 +261,10 @@ MeshResult mesh_immersion(const Complex& complex, const Immersion& immersion, co
   result.stats.exact_tets = local.exact_tets;
   result.stats.cpu_seconds_exact = local.seconds_exact;
   result.stats.cpu_seconds_booleans = local.seconds_booleans;
+  result.stats.seconds_candidates = local.seconds_candidates;
+  result.stats.seconds_tets = local.seconds_tets;
+  result.stats.seconds_faces = local.seconds_faces;
+  result.stats.seconds_regions = local.seconds_regions;
   if (!result.report.ok()) return result;
   log("meshing: " + std::to_string(local.polygons) + " clipped polygons, " + std::to_string(local.cut_elements) +
       " cut tets");

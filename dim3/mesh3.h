@@ -46,9 +46,20 @@ struct MeshOptions {
 /// of its background tet that reproduce its position. DESIGN §3 ".emb".
 using EmbeddedVertex3 = imm::EmbeddedVertex<3>;
 
+/// Wall and process CPU seconds (summed over threads) of one stage, and the CPU seconds of the
+/// calling thread: the stage's serial part when it ran on two threads or more (the parallel
+/// loops run on worker threads while the caller waits), so Amdahl's model follows from one run.
+struct StageSeconds {
+  double wall = 0.0;
+  double cpu = 0.0;
+  double serial = 0.0;
+};
+
 struct MeshStats {
   std::size_t background_tets = 0;
-  std::size_t candidate_pairs = 0;  ///< (tet, cut triangle) pairs with overlapping boxes
+  /// (tet, cut triangle) pairs with overlapping boxes, the tet not certainly on one side of the
+  /// triangle's plane (clipping: interval signs; CSG: boxes only)
+  std::size_t candidate_pairs = 0;
   std::size_t polygons = 0;         ///< clipped polygons
   std::size_t pieces = 0;
   std::size_t cut_tets = 0;         ///< background tets with two or more local regions
@@ -78,6 +89,14 @@ struct MeshStats {
   double seconds_background = 0.0;
   double seconds_virtual = 0.0;   ///< clipping, pieces, local regions
   double seconds_assembly = 0.0;  ///< atoms, fusion, union-find, outputs
+  /// Within seconds_virtual (clipping path; wall): candidate (tet, cut triangle) pairs, the tets
+  /// that have candidates (clipping, pieces, sides) and their merge, face pairing, the regions
+  /// of the local regions no piece bounds. Within seconds_assembly: atoms and their gluing,
+  /// duplicate-and-connect (unglue), output tets and vertices.
+  /// Each as wall and process CPU seconds (all threads; on a loaded machine the CPU is the
+  /// reliable one).
+  StageSeconds seconds_candidates, seconds_tets, seconds_faces, seconds_regions;
+  StageSeconds seconds_atoms, seconds_unglue, seconds_emit;
   /// Within the virtual tets, CPU seconds summed over threads (so they can exceed
   /// seconds_virtual): in exact arithmetic (clipping: the tets the intervals could not decide;
   /// CSG: every tet a cut triangle meets, booleans included) and in Nef booleans (CSG only).

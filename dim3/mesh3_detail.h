@@ -7,7 +7,10 @@
 // CGAL-free on purpose: mesh3.cpp compiles without the exact kernel.
 #pragma once
 
+#include <time.h>
+
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -37,7 +40,9 @@ struct LocalRegions : imm::LocalRegions<3> {
   };
   std::vector<Embedded> embedded;
 
-  std::size_t candidate_pairs = 0;  ///< (tet, cut triangle) pairs with overlapping boxes
+  /// (tet, cut triangle) pairs with overlapping boxes, the tet not certainly on one side of the
+  /// triangle's plane (clipping: interval signs; CSG: boxes only)
+  std::size_t candidate_pairs = 0;
   std::size_t polygons = 0;         ///< clipped polygons of positive area
   std::size_t pieces = 0;           ///< connected components of the input inside tets
   std::size_t side_tests = 0;       ///< "which side of a piece" tests
@@ -47,6 +52,35 @@ struct LocalRegions : imm::LocalRegions<3> {
   double seconds_exact = 0.0;
   /// CPU seconds in Nef constructions and booleans (CSG only; clipping has none).
   double seconds_booleans = 0.0;
+  /// Wall seconds of the clipping path's stages (zero for the CSG): candidate pairs, the tets
+  /// (clipping and merge), face pairing, regions of the uncut local regions (flood fill).
+  StageSeconds seconds_candidates, seconds_tets, seconds_faces, seconds_regions;
+};
+
+/// Times stages: each call to next() returns the wall, process CPU and calling thread's CPU seconds
+/// since the last (or since construction).
+class StageClock {
+ public:
+  StageClock() : wall_(std::chrono::steady_clock::now()), cpu_(cpu(CLOCK_PROCESS_CPUTIME_ID)), serial_(cpu(CLOCK_THREAD_CPUTIME_ID)) {}
+  StageSeconds next() {
+    const auto wall = std::chrono::steady_clock::now();
+    const double process = cpu(CLOCK_PROCESS_CPUTIME_ID), thread = cpu(CLOCK_THREAD_CPUTIME_ID);
+    const StageSeconds s{std::chrono::duration<double>(wall - wall_).count(), process - cpu_, thread - serial_};
+    wall_ = wall;
+    cpu_ = process;
+    serial_ = thread;
+    return s;
+  }
+
+ private:
+  static double cpu(clockid_t clock) {
+    timespec ts{};
+    clock_gettime(clock, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  }
+  std::chrono::steady_clock::time_point wall_;
+  double cpu_;
+  double serial_;
 };
 
 /// Barycentric coordinates of point p in tet t of `mesh`, for the .emb output only (never for a

@@ -151,45 +151,43 @@ class VirtualTets {
       for (const Point& p : m_.points) shifted_points_.push_back(p + v);
       input_points_ = &shifted_points_;
     }
-    points_.reserve(bg_.vertices.size());
-    for (const Point3& p : bg_.vertices) points_.emplace_back(p[0], p[1], p[2]);
-    background_intervals_.reserve(bg_.vertices.size());
-    for (const Point3& p : bg_.vertices) background_intervals_.emplace_back(p[0], p[1], p[2]);
     input_intervals_.reserve(input_points_->size());
     for (const Point& p : *input_points_) input_intervals_.push_back(CGAL::approx(p));
     for (std::uint32_t i = 0; i < m_.pieces.size(); ++i)
       arc_edge_.emplace(edge_key(m_.pieces[i].points[0], m_.pieces[i].points[1]), i);
+    StageClock clock;
     find_candidates();
+    out_.seconds_candidates = clock.next();
     out_.vertices.resize(c_.surface.vertex_count());
-    out_.first.reserve(bg_.tets.size() + 1);
     triangle_has_polygon_.assign(m_.triangles.size(), 0);
     face_region_.assign(4 * bg_.tets.size(), kNone);
-    // Candidate range of every tet.
-    std::vector<std::size_t> cand_first(bg_.tets.size() + 1, 0);
-    for (const auto& c : candidates_) ++cand_first[c.first + 1];
-    for (std::size_t t = 0; t < bg_.tets.size(); ++t) cand_first[t + 1] += cand_first[t];
+    // Only tets with candidate triangles are processed; the others (most of a fine background)
+    // have one local region and are appended in bulk between them, without a TetOut.
+    std::vector<std::uint32_t> candidate_tets;
+    for (std::uint32_t t = 0; t < bg_.tets.size(); ++t)
+      if (cand_first_[t] != cand_first_[t + 1]) candidate_tets.push_back(t);
+    out_.first.reserve(bg_.tets.size() + 1);
+    out_.region.reserve(bg_.tets.size() + 2 * candidate_tets.size());
+    out_.element.reserve(bg_.tets.size() + 2 * candidate_tets.size());
+    trace_first_.reserve(bg_.tets.size() + 1);
     // Tets are independent: blocks of them run on the threads, and are merged in tet order so
     // that the result does not depend on the thread count.
-    constexpr std::size_t kBlock = 2048;
-    std::vector<TetOut> block(kBlock);
+    constexpr std::size_t kBlock = 4096;
+    std::vector<TetOut> block(std::min(kBlock, candidate_tets.size()));
     std::vector<std::vector<PolygonT<IK>>> interval_scratch(threads_);
     std::vector<std::vector<Polygon>> scratch(threads_);
     std::atomic<std::size_t> exact_tets{0};
     std::vector<double> exact_seconds(threads_, 0.0);  // per worker
-    for (std::size_t first = 0; first < bg_.tets.size(); first += kBlock) {
-      const std::size_t count = std::min(kBlock, bg_.tets.size() - first);
+    std::uint32_t next_tet = 0;  // tets before it are merged
+    for (std::size_t first = 0; first < candidate_tets.size(); first += kBlock) {
+      const std::size_t count = std::min(kBlock, candidate_tets.size() - first);
       const auto run_tet = [&](std::size_t i, unsigned worker) {
-        const auto t = static_cast<std::uint32_t>(first + i);
+        const std::uint32_t t = candidate_tets[first + i];
         block[i] = TetOut();
-        if (cand_first[t] == cand_first[t + 1]) {
-          block[i].regions.emplace_back();
-          block[i].face_lr = {0, 0, 0, 0};
-          return;
-        }
         if (interval_filter_) {
           try {
             const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
-            process_tet<IK>(t, cand_first[t], cand_first[t + 1], block[i], interval_scratch[worker]);
+            process_tet<IK>(t, cand_first_[t], cand_first_[t + 1], block[i], interval_scratch[worker]);
             return;
           } catch (const CGAL::Uncertain_conversion_exception&) {
           }
@@ -197,7 +195,7 @@ class VirtualTets {
         block[i] = TetOut();
         ++exact_tets;
         const double exact_start = thread_cpu_seconds();
-        process_tet<EK>(t, cand_first[t], cand_first[t + 1], block[i], scratch[worker]);
+        process_tet<EK>(t, cand_first_[t], cand_first_[t + 1], block[i], scratch[worker]);
         exact_seconds[worker] += thread_cpu_seconds() - exact_start;
       };
       parallel_for(threads_, count, [&](std::size_t i, unsigned worker) {
@@ -206,18 +204,25 @@ class VirtualTets {
         } catch (...) {
           block[i].error = std::current_exception();  // rethrown by merge, so the first tet's wins
         }
-      });
+      }, /*grain=*/16);
       for (std::size_t i = 0; i < count; ++i) {
-        merge(static_cast<std::uint32_t>(first + i), block[i]);
+        const std::uint32_t t = candidate_tets[first + i];
+        append_uncut(next_tet, t);
+        merge(t, block[i]);
+        next_tet = t + 1;
         if (non_generic_) return std::move(out_);
       }
     }
+    append_uncut(next_tet, static_cast<std::uint32_t>(bg_.tets.size()));
     out_.finish();
     out_.exact_tets = exact_tets;
     for (double s : exact_seconds) out_.seconds_exact += s;
+    out_.seconds_tets = clock.next();
     connect_faces();
+    out_.seconds_faces = clock.next();
     if (!report_.ok()) return std::move(out_);
     resolve_regions();
+    out_.seconds_regions = clock.next();
     check_coverage();
     return std::move(out_);
   }
@@ -236,35 +241,79 @@ class VirtualTets {
       return corner(cut_triangle, k);
     }
   }
+  /// Background vertex v in kernel K, made from its doubles when needed (the whole background in
+  /// Epeck points would cost an allocation and ~100 bytes per vertex).
   template <class K>
-  [[nodiscard]] const typename K::Point_3& background_point(std::size_t v) const {
-    if constexpr (kInterval<K>) {
-      return background_intervals_[v];
-    } else {
-      return points_[v];
+  [[nodiscard]] typename K::Point_3 background_point(std::size_t v) const {
+    const Point3& p = bg_.vertices[v];
+    return typename K::Point_3(p[0], p[1], p[2]);
+  }
+
+  /// Appends tets from .. to-1, which no cut triangle's box meets: one local region each, of a
+  /// region found later (resolve_regions), no traces.
+  void append_uncut(std::uint32_t from, std::uint32_t to) {
+    if (from >= to) return;
+    const std::size_t n = to - from, base = out_.region.size(), first = out_.first.size();
+    out_.first.resize(first + n);
+    out_.element.resize(base + n);
+    for (std::size_t k = 0; k < n; ++k) {
+      out_.first[first + k] = static_cast<std::uint32_t>(base + k);
+      out_.element[base + k] = static_cast<std::uint32_t>(from + k);
     }
+    out_.region.resize(base + n);  // unknown: resolve_regions
+    trace_first_.resize(trace_first_.size() + n, static_cast<std::uint32_t>(traces_.size()));
+  }
+
+  /// The box of background tet t, from its double coordinates (exact: they are the points).
+  [[nodiscard]] CGAL::Bbox_3 tet_box(std::size_t t) const {
+    const Point3& p = bg_.vertices[static_cast<std::size_t>(bg_.tets[t][0])];
+    double lo[3] = {p[0], p[1], p[2]}, hi[3] = {p[0], p[1], p[2]};
+    for (int k = 1; k < 4; ++k) {
+      const Point3& q = bg_.vertices[static_cast<std::size_t>(bg_.tets[t][k])];
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], q[d]);
+        hi[d] = std::max(hi[d], q[d]);
+      }
+    }
+    return {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
   }
 
   /// (tet, cut triangle) pairs whose boxes overlap, sorted. Triangle boxes come from the interval
   /// approximations of the exact points (they contain the exact points): a conservative filter.
   /// The tets are binned in a uniform grid of cells about one tet across (a background mesh is
-  /// roughly uniform; CGAL's box_intersection_d, tried first, cost as much as the clipping); each
-  /// triangle visits the cells its box overlaps and keeps the tets whose boxes overlap its own,
-  /// each once. Triangles are split among the threads; the pairs are sorted at the end.
+  /// roughly uniform; CGAL's box_intersection_d, tried first, cost as much as the clipping): a
+  /// tet no wider than a cell goes into the one cell holding its box's low corner, a wider one
+  /// into every cell its box overlaps. Each triangle visits the cells its box overlaps, widened
+  /// by one cell downwards (where the low corners of the narrow tets that can overlap it lie),
+  /// and keeps the tets whose boxes overlap its own. Triangles are split among the threads; the
+  /// pairs are sorted and made unique at the end. The binning is the only per-tet work here.
   void find_candidates() {
     const std::size_t tet_count = bg_.tets.size();
-    std::vector<CGAL::Bbox_3> tet_box(tet_count);
+    cand_first_.assign(tet_count + 1, 0);
+    if (tet_count == 0 || m_.triangles.empty()) return;
+    // The boxes are recomputed from the doubles where needed rather than stored (48 bytes a tet).
+    // Slices fixed by the size, so that the sums (and the cells) do not depend on the threads.
+    const std::size_t tet_slices = 1 + tet_count / 65536;
     CGAL::Bbox_3 all;
     double extent = 0.0;
-    for (std::size_t t = 0; t < tet_count; ++t) {
-      for (int k = 0; k < 4; ++k) tet_box[t] += points_[static_cast<std::size_t>(bg_.tets[t][k])].bbox();
-      all += tet_box[t];
-      extent += std::max({tet_box[t].xmax() - tet_box[t].xmin(), tet_box[t].ymax() - tet_box[t].ymin(),
-                          tet_box[t].zmax() - tet_box[t].zmin()});
+    {
+      std::vector<CGAL::Bbox_3> slice_box(tet_slices);
+      std::vector<double> slice_extent(tet_slices, 0.0);
+      parallel_for(threads_, tet_slices, [&](std::size_t slice, unsigned) {
+        for (std::size_t t = tet_count * slice / tet_slices; t < tet_count * (slice + 1) / tet_slices; ++t) {
+          const CGAL::Bbox_3 b = tet_box(t);
+          slice_box[slice] += b;
+          slice_extent[slice] += std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
+        }
+      }, /*grain=*/1);
+      for (std::size_t k = 0; k < tet_slices; ++k) {
+        all += slice_box[k];
+        extent += slice_extent[k];
+      }
     }
-    if (tet_count == 0 || m_.triangles.empty()) return;
-    // Cells of about the mean tet extent, at most ~8 per tet overall.
-    double cell = 0.5 * extent / static_cast<double>(tet_count);
+    // Cells of about the mean tet extent (a little more, so that a uniform grid's tets are all
+    // narrow), at most ~8 per tet overall.
+    double cell = 1.01 * extent / static_cast<double>(tet_count);
     const double span[3] = {all.xmax() - all.xmin(), all.ymax() - all.ymin(), all.zmax() - all.zmin()};
     const double budget = 8.0 * static_cast<double>(tet_count);
     if (!(cell > 0.0)) cell = 1.0;
@@ -282,8 +331,18 @@ class VirtualTets {
         to[d] = index(b.max(d), d);
       }
     };
-    // Tets per cell (counting sort).
+    const auto cell_id = [&](std::size_t i, std::size_t j, std::size_t k) { return (i * dims[1] + j) * dims[2] + k; };
+    // The cell of every narrow tet (kNone: a wide one), then tets per cell (counting sort).
     const std::size_t cells = dims[0] * dims[1] * dims[2];
+    std::vector<std::uint32_t> tet_cell(tet_count);
+    parallel_for(threads_, tet_slices, [&](std::size_t slice, unsigned) {
+      for (std::size_t t = tet_count * slice / tet_slices; t < tet_count * (slice + 1) / tet_slices; ++t) {
+        const CGAL::Bbox_3 b = tet_box(t);
+        const bool narrow = b.xmax() - b.xmin() <= cell && b.ymax() - b.ymin() <= cell && b.zmax() - b.zmin() <= cell;
+        tet_cell[t] = narrow ? static_cast<std::uint32_t>(cell_id(index(b.xmin(), 0), index(b.ymin(), 1), index(b.zmin(), 2)))
+                             : kNone;
+      }
+    }, /*grain=*/1);
     std::vector<std::uint32_t> cell_first(cells + 1, 0), cell_tets;
     for (int pass = 0; pass < 2; ++pass) {
       std::vector<std::uint32_t> next;
@@ -292,46 +351,66 @@ class VirtualTets {
         cell_tets.resize(cell_first[cells]);
         next.assign(cell_first.begin(), cell_first.end() - 1);
       }
+      const auto put = [&](std::size_t c, std::uint32_t t) {
+        if (pass == 0) {
+          ++cell_first[c + 1];
+        } else {
+          cell_tets[next[c]++] = t;
+        }
+      };
       for (std::uint32_t t = 0; t < tet_count; ++t) {
+        if (tet_cell[t] != kNone) {
+          put(tet_cell[t], t);
+          continue;
+        }
         std::array<std::size_t, 3> from{}, to{};
-        cell_range(tet_box[t], from, to);
+        cell_range(tet_box(t), from, to);
         for (std::size_t i = from[0]; i <= to[0]; ++i)
           for (std::size_t j = from[1]; j <= to[1]; ++j)
-            for (std::size_t k = from[2]; k <= to[2]; ++k) {
-              const std::size_t c = (i * dims[1] + j) * dims[2] + k;
-              if (pass == 0) {
-                ++cell_first[c + 1];
-              } else {
-                cell_tets[next[c]++] = t;
-              }
-            }
+            for (std::size_t k = from[2]; k <= to[2]; ++k) put(cell_id(i, j, k), t);
       }
     }
+    std::vector<std::uint32_t>().swap(tet_cell);
     const std::size_t slices = std::min<std::size_t>(threads_, 1 + m_.triangles.size() / 4096);
     std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(slices);
     parallel_for(threads_, slices, [&](std::size_t slice, unsigned) {
-      std::vector<std::uint32_t> seen(tet_count, std::numeric_limits<std::uint32_t>::max());
       const std::size_t begin = m_.triangles.size() * slice / slices;
       const std::size_t end = m_.triangles.size() * (slice + 1) / slices;
       for (auto x = static_cast<std::uint32_t>(begin); x < end; ++x) {
         const CGAL::Bbox_3 b = corner(x, 0).bbox() + corner(x, 1).bbox() + corner(x, 2).bbox();
         std::array<std::size_t, 3> from{}, to{};
-        cell_range(b, from, to);
+        cell_range(CGAL::Bbox_3(b.xmin() - cell, b.ymin() - cell, b.zmin() - cell, b.xmax(), b.ymax(), b.zmax()), from,
+                   to);  // rounded to nearest, as the binning
+        const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
+        // The triangle's plane in intervals: a tet whose four corners are certainly strictly on
+        // one side of it cannot meet the triangle (clipping would give an empty polygon), so it
+        // is no candidate. Uncertain signs keep the pair.
+        const IK::Point_3& a = corner_in<IK>(x, 0);
+        const IK::Vector_3 normal = CGAL::cross_product(corner_in<IK>(x, 1) - a, corner_in<IK>(x, 2) - a);
+        const auto plane_side = [&](std::uint32_t t) {
+          int side = 0;
+          for (int k = 0; k < 4; ++k) {
+            const Point3& p = bg_.vertices[static_cast<std::size_t>(bg_.tets[t][k])];
+            const IK::FT value = normal.x() * (p[0] - a.x()) + normal.y() * (p[1] - a.y()) + normal.z() * (p[2] - a.z());
+            const int s = value.inf() > 0 ? 1 : value.sup() < 0 ? -1 : 0;
+            if (s == 0 || (side != 0 && s != side)) return 0;
+            side = s;
+          }
+          return side;
+        };
         for (std::size_t i = from[0]; i <= to[0]; ++i)
           for (std::size_t j = from[1]; j <= to[1]; ++j)
             for (std::size_t k = from[2]; k <= to[2]; ++k) {
-              const std::size_t c = (i * dims[1] + j) * dims[2] + k;
+              const std::size_t c = cell_id(i, j, k);
               for (std::uint32_t n = cell_first[c]; n < cell_first[c + 1]; ++n) {
                 const std::uint32_t t = cell_tets[n];
-                if (seen[t] == x) continue;
-                seen[t] = x;
-                if (CGAL::do_overlap(b, tet_box[t])) found[slice].emplace_back(t, x);
+                if (CGAL::do_overlap(b, tet_box(t)) && plane_side(t) == 0) found[slice].emplace_back(t, x);
               }
             }
       }
     }, /*grain=*/1);
     // Sorted by (tet, triangle): a counting sort by tet, then each tet's few triangles.
-    std::vector<std::uint32_t> first(tet_count + 1, 0);
+    std::vector<std::uint32_t>& first = cand_first_;
     for (const auto& f : found)
       for (const auto& [t, x] : f) ++first[t + 1];
     for (std::size_t t = 0; t < tet_count; ++t) first[t + 1] += first[t];
@@ -340,8 +419,17 @@ class VirtualTets {
       for (const auto& pair : f) candidates_[first[pair.first]++] = pair;
     for (std::size_t t = tet_count; t > 0; --t) first[t] = first[t - 1];
     first[0] = 0;
-    for (std::size_t t = 0; t < tet_count; ++t)
-      std::sort(candidates_.begin() + first[t], candidates_.begin() + first[t + 1]);
+    // Sorted and unique per tet (a wide tet is met once per cell it shares with a triangle's box).
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < tet_count; ++t) {
+      const auto begin = candidates_.begin() + first[t], end = candidates_.begin() + first[t + 1];
+      std::sort(begin, end);
+      first[t] = static_cast<std::uint32_t>(kept);
+      for (auto c = begin; c != end; ++c)
+        if (c == begin || *c != *(c - 1)) candidates_[kept++] = *c;
+    }
+    first[tet_count] = static_cast<std::uint32_t>(kept);
+    candidates_.resize(kept);
     out_.candidate_pairs = candidates_.size();
   }
 
@@ -758,82 +846,186 @@ class VirtualTets {
 
   // ---- faces ----------------------------------------------------------------------------------
 
+  /// Pairs the faces of the background tets and records what touches across each: for every
+  /// interior face, the adjacencies of its two tets' local regions (LocalRegions::Adjacency,
+  /// `first` in the smaller tet), in the order LocalRegions::normalise gives them; boundary faces
+  /// (in face-key order) for the coverage check; a face shared by more than two tets is a
+  /// defect. The neighbours come from the tets around each face's smallest vertex, so the work
+  /// is per tet and runs on all threads (no sort of all faces).
   void connect_faces() {
-    // Faces keyed by their sorted vertex ids.
-    struct FaceRef {
-      std::array<int, 3> key;
-      std::uint32_t tet;
-      std::uint8_t f;
-    };
-    // Bucketed by their smallest vertex (linear), then sorted within each small bucket.
-    std::vector<std::uint32_t> bucket(bg_.vertices.size() + 1, 0);
+    const std::size_t tet_count = bg_.tets.size();
     const auto key_of = [&](std::uint32_t t, int f) {
       std::array<int, 3> key = {bg_.tets[t][kFace[f][0]], bg_.tets[t][kFace[f][1]], bg_.tets[t][kFace[f][2]]};
       std::sort(key.begin(), key.end());
       return key;
     };
-    for (std::uint32_t t = 0; t < bg_.tets.size(); ++t)
-      for (int f = 0; f < 4; ++f) ++bucket[static_cast<std::size_t>(key_of(t, f)[0]) + 1];
-    for (std::size_t v = 0; v + 1 < bucket.size(); ++v) bucket[v + 1] += bucket[v];
-    std::vector<FaceRef> faces(4 * bg_.tets.size());
+    // Tets around each background vertex (a counting sort on all threads with atomic counters: the
+    // order inside a star varies, but the faces at a vertex are sorted before they pair).
+    constexpr std::size_t kTetChunk = 16384;
+    const std::size_t tet_chunks = (tet_count + kTetChunk - 1) / kTetChunk;
+    std::vector<std::uint32_t> star_first(bg_.vertices.size() + 1, 0);
+    parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
+      for (std::size_t t = chunk * kTetChunk; t < std::min(tet_count, (chunk + 1) * kTetChunk); ++t)
+        for (int v : bg_.tets[t])
+          std::atomic_ref<std::uint32_t>(star_first[static_cast<std::size_t>(v) + 1]).fetch_add(1, std::memory_order_relaxed);
+    }, /*grain=*/1);
+    for (std::size_t v = 0; v + 1 < star_first.size(); ++v) star_first[v + 1] += star_first[v];
+    std::vector<std::uint32_t> star(star_first.back());
     {
-      std::vector<std::uint32_t> next(bucket.begin(), bucket.end() - 1);
-      for (std::uint32_t t = 0; t < bg_.tets.size(); ++t)
-        for (std::uint8_t f = 0; f < 4; ++f) {
-          const std::array<int, 3> key = key_of(t, f);
-          faces[next[static_cast<std::size_t>(key[0])]++] = {key, t, f};
-        }
+      std::vector<std::uint32_t> next(star_first.begin(), star_first.end() - 1);
+      parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
+        for (std::size_t t = chunk * kTetChunk; t < std::min(tet_count, (chunk + 1) * kTetChunk); ++t)
+          for (int v : bg_.tets[t]) {
+            const std::uint32_t at =
+                std::atomic_ref<std::uint32_t>(next[static_cast<std::size_t>(v)]).fetch_add(1, std::memory_order_relaxed);
+            star[at] = static_cast<std::uint32_t>(t);
+          }
+      }, /*grain=*/1);
     }
-    for (std::size_t v = 0; v + 1 < bucket.size(); ++v)
-      std::sort(faces.begin() + bucket[v], faces.begin() + bucket[v + 1], [](const FaceRef& a, const FaceRef& b) {
-        return std::tie(a.key, a.tet, a.f) < std::tie(b.key, b.tet, b.f);
-      });
-    // traces_ is in (tet, face, triangle) order already (merge appends each tet's, sorted).
-    const auto traces_of = [&](std::uint32_t t, std::uint8_t f) {
-      auto lo = traces_.begin() + trace_first_[t];
-      const auto end = traces_.begin() + trace_first_[t + 1];
-      while (lo != end && lo->face < f) ++lo;
-      auto hi = lo;
-      while (hi != end && hi->face == f) ++hi;
-      return std::make_pair(lo, hi);
+    // Neighbour across face (t, f): 4 s + g, or a mark. Every face is paired at its smallest
+    // vertex: the faces there whose smallest vertex it is, sorted by their other two vertices
+    // (a few dozen per vertex), pair up. Vertices are independent: all threads.
+    constexpr std::uint32_t kBoundaryFace = kNone, kSharedByMore = kNone - 1;
+    std::vector<std::uint32_t> neighbour(4 * tet_count);
+    struct StarFace {
+      std::array<int, 2> rest;  ///< the face's two larger vertices
+      std::uint32_t face;       ///< 4 t + f
     };
+    const std::size_t vertex_count = bg_.vertices.size();
+    constexpr std::size_t kVertexChunk = 4096;
+    parallel_for(threads_, (vertex_count + kVertexChunk - 1) / kVertexChunk, [&](std::size_t chunk, unsigned) {
+      std::vector<StarFace> faces;
+      for (std::size_t v = chunk * kVertexChunk; v < std::min(vertex_count, (chunk + 1) * kVertexChunk); ++v) {
+        faces.clear();
+        for (std::uint32_t n = star_first[v]; n < star_first[v + 1]; ++n) {
+          const std::uint32_t t = star[n];
+          const Tet& tet = bg_.tets[t];
+          const int at = tet[0] == static_cast<int>(v) ? 0 : tet[1] == static_cast<int>(v) ? 1 : tet[2] == static_cast<int>(v) ? 2 : 3;
+          // The three faces of t through v: each leaves out one other vertex.
+          for (int f = 0; f < 4; ++f) {
+            if (f == at) continue;
+            int b = -1, c = -1;
+            for (int k = 0; k < 4; ++k) {
+              if (k == at || k == f) continue;
+              (b < 0 ? b : c) = tet[k];
+            }
+            if (b < static_cast<int>(v) || c < static_cast<int>(v)) continue;  // not its smallest vertex
+            faces.push_back({{std::min(b, c), std::max(b, c)}, 4 * t + static_cast<std::uint32_t>(f)});
+          }
+        }
+        std::sort(faces.begin(), faces.end(), [](const StarFace& a, const StarFace& b) {
+          return std::tie(a.rest, a.face) < std::tie(b.rest, b.face);
+        });
+        for (std::size_t i = 0; i < faces.size();) {
+          std::size_t j = i + 1;
+          while (j < faces.size() && faces[j].rest == faces[i].rest) ++j;
+          for (std::size_t k = i; k < j; ++k)
+            neighbour[faces[k].face] = j - i == 1 ? kBoundaryFace
+                                       : j - i == 2 ? faces[i + (k == i ? 1 : 0)].face
+                                                    : kSharedByMore;
+          i = j;
+        }
+      }
+    }, /*grain=*/1);
+    // Defects and boundary faces, in face-key order as the coverage check reports them.
+    std::vector<std::pair<std::array<int, 3>, std::uint32_t>> shared_by_more, boundary;
+    {
+      std::vector<std::vector<std::pair<std::array<int, 3>, std::uint32_t>>> chunk_boundary(tet_chunks),
+          chunk_shared(tet_chunks);
+      parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
+        for (std::size_t i = 4 * chunk * kTetChunk; i < 4 * std::min(tet_count, (chunk + 1) * kTetChunk); ++i) {
+          const auto face = static_cast<std::uint32_t>(i);
+          if (neighbour[i] == kBoundaryFace) chunk_boundary[chunk].emplace_back(key_of(face / 4, static_cast<int>(face % 4)), face);
+          if (neighbour[i] == kSharedByMore) chunk_shared[chunk].emplace_back(key_of(face / 4, static_cast<int>(face % 4)), face);
+        }
+      }, /*grain=*/1);
+      for (std::size_t chunk = 0; chunk < tet_chunks; ++chunk) {
+        boundary.insert(boundary.end(), chunk_boundary[chunk].begin(), chunk_boundary[chunk].end());
+        shared_by_more.insert(shared_by_more.end(), chunk_shared[chunk].begin(), chunk_shared[chunk].end());
+      }
+    }
+    std::sort(shared_by_more.begin(), shared_by_more.end());
+    for (std::size_t i = 0; i < shared_by_more.size();) {
+      std::size_t j = i + 1;
+      while (j < shared_by_more.size() && shared_by_more[j].first == shared_by_more[i].first) ++j;
+      const std::array<int, 3>& key = shared_by_more[i].first;
+      background_defect(DefectKind::NonManifoldEdge, "background face (" + std::to_string(key[0]) + ", " +
+                                                         std::to_string(key[1]) + ", " + std::to_string(key[2]) +
+                                                         ") is shared by " + std::to_string(j - i) + " tets",
+                        key);
+      i = j;
+    }
+    std::sort(boundary.begin(), boundary.end());
+    for (const auto& [key, i] : boundary) {
+      const std::uint32_t t = i / 4;
+      const auto f = static_cast<std::uint8_t>(i % 4);
+      boundary_.push_back({t, f});
+      const auto [lo, hi] = traces_of(t, f);
+      if (lo != hi && boundary_crossing_ == kNone) boundary_crossing_ = static_cast<std::uint32_t>(lo - traces_.begin());
+    }
+    // Adjacencies, tet by tet: those whose `first` lies in tet t come from its faces towards larger
+    // tets; sorted and unique per tet, so in tet order they are sorted and unique overall. Counted
+    // first, then written at their offsets, on all threads.
     const auto face_lr = [&](std::uint32_t t, std::uint8_t f) {
       if (out_.first[t + 1] - out_.first[t] == 1) return out_.first[t];
       const std::uint32_t lr = face_region_[4 * t + f];
       IMM_ASSERT(lr != kNone, "an untraced face without a local region");
       return lr;
     };
-    for (std::size_t i = 0; i < faces.size();) {
-      std::size_t j = i + 1;
-      while (j < faces.size() && faces[j].key == faces[i].key) ++j;
-      const FaceRef& a = faces[i];
-      if (j - i > 2) {
-        background_defect(DefectKind::NonManifoldEdge, "background face (" + std::to_string(a.key[0]) + ", " +
-                                                           std::to_string(a.key[1]) + ", " + std::to_string(a.key[2]) +
-                                                           ") is shared by " + std::to_string(j - i) + " tets",
-                          a.key);
-      } else if (j - i == 1) {
-        boundary_.push_back({a.tet, a.f});
-        const auto [lo, hi] = traces_of(a.tet, a.f);
-        if (lo != hi && boundary_crossing_ == kNone) boundary_crossing_ = static_cast<std::uint32_t>(lo - traces_.begin());
-      } else {
-        const FaceRef& b = faces[i + 1];
-        const auto [alo, ahi] = traces_of(a.tet, a.f);
-        const auto [blo, bhi] = traces_of(b.tet, b.f);
+    using Adjacency = LocalRegions::Adjacency;
+    const auto tet_adjacencies = [&](std::uint32_t t, std::vector<Adjacency>& list) {
+      list.clear();
+      for (std::uint8_t f = 0; f < 4; ++f) {
+        const std::uint32_t other = neighbour[4 * t + f];
+        if (other >= kSharedByMore || other / 4 < t) continue;
+        const std::uint32_t s = other / 4;
+        const auto g = static_cast<std::uint8_t>(other % 4);
+        const std::array<int, 3> key = key_of(t, f);
+        const auto [alo, ahi] = traces_of(t, f);
+        const auto [blo, bhi] = traces_of(s, g);
         IMM_ASSERT(ahi - alo == bhi - blo, "a cut triangle crosses a shared face in one tet only");
         if (alo == ahi) {
-          out_.adjacencies.push_back({face_lr(a.tet, a.f), face_lr(b.tet, b.f), PatchId(), a.key});
+          list.push_back({face_lr(t, f), face_lr(s, g), PatchId(), key});
         } else {
           for (auto x = alo, y = blo; x != ahi; ++x, ++y) {
             IMM_ASSERT(x->triangle == y->triangle, "the two tets of a face see different traces");
-            out_.adjacencies.push_back({x->outer, y->outer, PatchId(), a.key});
-            out_.adjacencies.push_back({x->inner, y->inner, PatchId(), a.key});
+            list.push_back({x->outer, y->outer, PatchId(), key});
+            list.push_back({x->inner, y->inner, PatchId(), key});
           }
         }
       }
-      i = j;
-    }
-    LocalRegions::normalise(out_.adjacencies);
+      LocalRegions::normalise(list);
+    };
+    std::vector<std::uint32_t> adjacency_first(tet_count + 1, 0);
+    constexpr std::size_t kChunk = 8192;
+    const std::size_t chunks = (tet_count + kChunk - 1) / kChunk;
+    parallel_for(threads_, chunks, [&](std::size_t chunk, unsigned) {
+      std::vector<Adjacency> list;
+      for (std::size_t t = chunk * kChunk; t < std::min(tet_count, (chunk + 1) * kChunk); ++t) {
+        tet_adjacencies(static_cast<std::uint32_t>(t), list);
+        adjacency_first[t + 1] = static_cast<std::uint32_t>(list.size());
+      }
+    }, /*grain=*/1);
+    for (std::size_t t = 0; t < tet_count; ++t) adjacency_first[t + 1] += adjacency_first[t];
+    out_.adjacencies.resize(adjacency_first[tet_count]);
+    parallel_for(threads_, chunks, [&](std::size_t chunk, unsigned) {
+      std::vector<Adjacency> list;
+      for (std::size_t t = chunk * kChunk; t < std::min(tet_count, (chunk + 1) * kChunk); ++t) {
+        tet_adjacencies(static_cast<std::uint32_t>(t), list);
+        std::copy(list.begin(), list.end(), out_.adjacencies.begin() + adjacency_first[t]);
+      }
+    }, /*grain=*/1);
+  }
+
+  /// The traces of tet t on face f (traces_ is in (tet, face, triangle) order).
+  [[nodiscard]] std::pair<std::vector<Trace>::const_iterator, std::vector<Trace>::const_iterator> traces_of(
+      std::uint32_t t, std::uint8_t f) const {
+    auto lo = traces_.cbegin() + trace_first_[t];
+    const auto end = traces_.cbegin() + trace_first_[t + 1];
+    while (lo != end && lo->face < f) ++lo;
+    auto hi = lo;
+    while (hi != end && hi->face == f) ++hi;
+    return {lo, hi};
   }
 
   void background_defect(DefectKind kind, std::string message, const std::array<int, 3>& face) {
@@ -855,8 +1047,8 @@ class VirtualTets {
   /// The region holding the centroid of tet t (a tet the input does not meet): the first cut
   /// triangle crossed by an exact segment from it to a point inside some cut triangle.
   RegionId locate(std::uint32_t t) const {
-    Point q = CGAL::centroid(points_[static_cast<std::size_t>(bg_.tets[t][0])], points_[static_cast<std::size_t>(bg_.tets[t][1])],
-                             points_[static_cast<std::size_t>(bg_.tets[t][2])], points_[static_cast<std::size_t>(bg_.tets[t][3])]);
+    const auto corner_point = [&](int k) { return background_point<EK>(static_cast<std::size_t>(bg_.tets[t][k])); };
+    Point q = CGAL::centroid(corner_point(0), corner_point(1), corner_point(2), corner_point(3));
     std::vector<std::uint32_t> all(m_.triangles.size());
     std::iota(all.begin(), all.end(), 0u);
     for (std::uint32_t aim = 0; aim < m_.triangles.size(); ++aim) {
@@ -928,13 +1120,12 @@ class VirtualTets {
   ValidationReport& report_;
   bool& non_generic_;
 
-  std::vector<Point> points_;                 ///< background vertices
   const std::vector<Point>* input_points_ = nullptr;  ///< cut-mesh points (shifted when asked)
   std::vector<Point> shifted_points_;
-  std::vector<IK::Point_3> background_intervals_;  ///< the same points, for the interval fast path
   std::vector<IK::Point_3> input_intervals_;
   std::unordered_map<std::uint64_t, std::uint32_t> arc_edge_;  ///< geometric cut edge -> CutPiece
   std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
+  std::vector<std::uint32_t> cand_first_;  ///< candidates of tet t: cand_first_[t] .. [t+1]-1
   std::vector<Trace> traces_;               ///< in (tet, face, triangle) order
   std::vector<std::uint32_t> trace_first_{0};  ///< traces of tet t: trace_first_[t] .. [t+1]-1
   std::vector<std::uint32_t> face_region_;  ///< per (tet, face) without traces in a cut tet

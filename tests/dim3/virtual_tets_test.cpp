@@ -8,11 +8,14 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "dim3/generators3.h"
 #include "dim3/mesh3.h"
+#include "dim3/mesh3_detail.h"
 #include "dim3/self_connecting.h"
 
 namespace imm::dim3 {
@@ -73,9 +76,11 @@ TEST_P(VirtualTetsEquivalence, IntervalsExactAndThreadsGiveTheSameMesh) {
   EXPECT_GT(exact_mesh.stats.exact_tets, reference.stats.exact_tets);
   EXPECT_EQ(fingerprint(exact_mesh), fingerprint(reference)) << c.name;
 
-  MeshOptions two = fast;
-  two.threads = 2;
-  EXPECT_EQ(fingerprint(mesh(p, two)), fingerprint(reference)) << c.name;
+  for (unsigned threads : {2u, 3u}) {
+    MeshOptions more = fast;
+    more.threads = threads;
+    EXPECT_EQ(fingerprint(mesh(p, more)), fingerprint(reference)) << c.name << " on " << threads << " threads";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -182,6 +187,137 @@ TEST(VirtualTets, BackgroundTouchingTheInputIsMeshedUnderAnExplicitTranslation) 
         q[d] += e.weights[k] * m.mesh.vertices[static_cast<std::size_t>(m.mesh.tets[static_cast<std::size_t>(e.element)][k])][d];
     for (int d = 0; d < 3; ++d) EXPECT_NEAR(q[d], cube.vertices[v][d] + m.stats.input_shift[d], 1e-12);
   }
+}
+
+/// A background read from a file comes in any order. The grid's tets shuffled and each rotated
+/// by an even permutation (orientation kept), so that no tet order or vertex order of the
+/// generator helps the face pairing or the candidate binning.
+TetMesh shuffled(const TetMesh& grid, unsigned seed) {
+  std::vector<std::size_t> order(grid.tets.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::mt19937 random(seed);
+  std::shuffle(order.begin(), order.end(), random);
+  TetMesh out;
+  out.vertices = grid.vertices;
+  for (std::size_t i : order) {
+    Tet t = grid.tets[i];
+    if (random() % 2) t = {t[1], t[0], t[3], t[2]};
+    if (random() % 2) t = {t[2], t[3], t[0], t[1]};
+    out.tets.push_back(t);
+  }
+  return out;
+}
+
+// Local regions: every interior face of the background (found independently, by a map of
+// sorted face keys) carries an adjacency between local regions of its two tets, every adjacency
+// lies on such a face, and boundary faces carry none; the whole result is the same field for
+// field on 1, 2 and 3 threads.
+TEST(VirtualTets, FacePairingMatchesAnIndependentPairingOnEveryThreadCount) {
+  const SurfaceGenerateResult g = generate_surface("two-spheres", {});
+  ASSERT_TRUE(g.ok()) << g.error;
+  const Prepared p = prepare(g.surface);
+  const TetMesh background = shuffled(make_grid_background(bounding_box(p.complex().surface), 9, 0), 7);
+  std::map<std::array<int, 3>, std::vector<std::uint32_t>> tets_of_face;
+  for (std::uint32_t t = 0; t < background.tets.size(); ++t)
+    for (int f = 0; f < 4; ++f) {
+      std::array<int, 3> key{};
+      for (int k = 0, n = 0; k < 4; ++k)
+        if (k != f) key[static_cast<std::size_t>(n++)] = background.tets[t][static_cast<std::size_t>(k)];
+      std::sort(key.begin(), key.end());
+      tets_of_face[key].push_back(t);
+    }
+  std::vector<detail::LocalRegions> results;
+  for (unsigned threads : {1u, 2u, 3u}) {
+    ValidationReport report;
+    bool non_generic = false;
+    results.push_back(detail::compute_local_regions(p.complex(), background, {0, 0, 0}, /*record_embedded=*/true,
+                                                    threads, /*interval_filter=*/true, report, non_generic));
+    ASSERT_TRUE(report.ok()) << report.summary();
+    ASSERT_FALSE(non_generic);
+  }
+  const detail::LocalRegions& r = results.front();
+  ASSERT_GT(r.cut_elements, 0u);
+  std::map<std::array<int, 3>, int> adjacencies_on;
+  for (const auto& a : r.adjacencies) {
+    std::array<int, 3> key = a.face;
+    std::sort(key.begin(), key.end());
+    const auto it = tets_of_face.find(key);
+    ASSERT_NE(it, tets_of_face.end()) << "an adjacency on no face of the background";
+    ASSERT_EQ(it->second.size(), 2u) << "an adjacency on a boundary face";
+    const std::uint32_t s = r.element[a.first], t = r.element[a.second];
+    EXPECT_EQ(std::min(s, t), std::min(it->second[0], it->second[1]));
+    EXPECT_EQ(std::max(s, t), std::max(it->second[0], it->second[1]));
+    ++adjacencies_on[key];
+  }
+  for (const auto& [key, tets] : tets_of_face)
+    if (tets.size() == 2) EXPECT_GE(adjacencies_on[key], 1) << "an interior face without an adjacency";
+  for (std::size_t k = 1; k < results.size(); ++k) {
+    const detail::LocalRegions& o = results[k];
+    EXPECT_EQ(o.first, r.first);
+    EXPECT_EQ(o.region, r.region);
+    EXPECT_EQ(o.element, r.element);
+    ASSERT_EQ(o.fusions.size(), r.fusions.size());
+    for (std::size_t i = 0; i < r.fusions.size(); ++i) {
+      EXPECT_EQ(o.fusions[i].inner, r.fusions[i].inner);
+      EXPECT_EQ(o.fusions[i].outer, r.fusions[i].outer);
+      EXPECT_EQ(o.fusions[i].patch, r.fusions[i].patch);
+    }
+    ASSERT_EQ(o.adjacencies.size(), r.adjacencies.size());
+    for (std::size_t i = 0; i < r.adjacencies.size(); ++i) {
+      EXPECT_EQ(o.adjacencies[i].first, r.adjacencies[i].first);
+      EXPECT_EQ(o.adjacencies[i].second, r.adjacencies[i].second);
+      EXPECT_EQ(o.adjacencies[i].face, r.adjacencies[i].face);
+    }
+    EXPECT_EQ(o.candidate_pairs, r.candidate_pairs);
+    EXPECT_EQ(o.polygons, r.polygons);
+  }
+}
+
+// The same input on the shuffled background and on the generator's order: the same tets cut,
+// the same number of output tets and copies per cell (the candidate binning and the face
+// pairing do not depend on the order they are handed the tets in).
+TEST(VirtualTets, ShuffledBackgroundGivesTheSameMesh) {
+  const SurfaceGenerateResult g = generate_surface("tube-overlap", {});
+  ASSERT_TRUE(g.ok()) << g.error;
+  const Prepared p = prepare(g.surface);
+  const TetMesh grid = make_grid_background(bounding_box(p.complex().surface), 10, 0);
+  std::vector<MeshResult> results;
+  for (const TetMesh& background : {grid, shuffled(grid, 3)}) {
+    const std::string path = testing::TempDir() + "/shuffled_or_not.veg";
+    {
+      std::ofstream out(path);
+      out << format_veg(background);
+    }
+    MeshOptions options;
+    options.background_path = path;
+    results.push_back(mesh(p, options));
+  }
+  EXPECT_EQ(results[0].stats.cut_tets, results[1].stats.cut_tets);
+  EXPECT_EQ(results[0].stats.polygons, results[1].stats.polygons);
+  EXPECT_EQ(results[0].stats.output_tets, results[1].stats.output_tets);
+  EXPECT_EQ(results[0].stats.output_vertices, results[1].stats.output_vertices);
+  EXPECT_EQ(results[0].stats.copies_per_cell, results[1].stats.copies_per_cell);
+  EXPECT_GT(results[0].stats.cut_tets, 0u);
+}
+
+// Three tets on one face: the background is not a manifold there; reported with the face's
+// vertices and how many tets share it (found per vertex star, not by sorting every face).
+TEST(VirtualTets, FaceSharedByThreeTetsIsReported) {
+  const SurfaceGenerateResult g = generate_surface("sphere", {});
+  ASSERT_TRUE(g.ok()) << g.error;
+  const Prepared p = prepare(g.surface);
+  TetMesh background;
+  // Far from the sphere: no tet is cut, so the pairing alone speaks.
+  background.vertices = {{10, 0, 0}, {11, 0, 0}, {10, 1, 0}, {10, 0, 1}, {10.2, 0.2, 2}, {10.3, 0.1, 3}};
+  background.tets = {{0, 1, 2, 3}, {0, 1, 2, 4}, {0, 1, 2, 5}};
+  ValidationReport report;
+  bool non_generic = false;
+  detail::compute_local_regions(p.complex(), background, {0, 0, 0}, false, 2, true, report, non_generic);
+  ASSERT_FALSE(report.ok());
+  bool found = false;
+  for (const Defect& d : report.defects)
+    if (d.message.find("background face (0, 1, 2) is shared by 3 tets") != std::string::npos) found = true;
+  EXPECT_TRUE(found) << report.summary();
 }
 
 }  // namespace
