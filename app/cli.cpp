@@ -1068,6 +1068,8 @@ int command_mesh(Session& s, const CommandLine& cl) {
   }
   for (const char* option : {"--all", "--threads", "--no-helper-boxes"})
     if (cl.has(option)) return usage_error(env, "mesh", std::string(option) + " is for 3D surfaces only");
+  if (choice.conforming && cl.has("--method"))  // the CSG baseline clips background triangles; a conforming mesh has none cut
+    return usage_error(env, "mesh", "--method is for the background mesher, not --conforming");
 
   s.enable_summary();
   Prepared p;

@@ -205,6 +205,9 @@ struct InputOps {
   std::string extension;                                        ///< ".txt" / ".obj"
   std::function<std::string(const Eigen::MatrixXd&)> format;    ///< the deformed input file
   std::function<std::size_t(const Eigen::MatrixXd&)> crossings; ///< exact self-intersection count
+  /// The coordinate range of the dimension's inputs: a deformed input beyond it (a displacement of
+  /// 1e300) is refused instead of counted, since the exact checks take only valid inputs.
+  double max_coordinate = 0.0;
 };
 
 std::string frame_name(const std::string& dir, const std::string& stem, int frame, const std::string& ext) {
@@ -280,6 +283,10 @@ int run_deform(Session& s, const CommandLine& cl, const SimplexMesh<D>& mesh, co
       fr["energy"] = r.energies.back();
     } else if (method == "fem") {
       const deform::FemReport r = s.timed("solve", [&] { return deform::fem_step<D>(fem, state, targets, fem_options); });
+      if (!r.error.empty()) {
+        s.err() << "immerse deform: frame " << f << ": " << r.error << '\n';
+        return kExitInvalidInput;
+      }
       x = state.positions;
       fr["newton_iterations"] = r.newton_iterations;
       fr["converged"] = r.converged;
@@ -295,6 +302,11 @@ int run_deform(Session& s, const CommandLine& cl, const SimplexMesh<D>& mesh, co
       fr["elastic_energy"] = deform::elastic_energy<D>(fem, x, file.material);
     }
     const Eigen::MatrixXd points = deform::embedded_positions(x, mesh.elements, embedding);
+    if (!(points.allFinite() && points.cwiseAbs().maxCoeff() <= ops.max_coordinate) || !x.allFinite()) {
+      s.err() << "immerse deform: frame " << f << ": the deformed input leaves the coordinate range of inputs (|x| <= "
+              << ops.max_coordinate << "); the handles' displacements or forces are too large\n";
+      return kExitInvalidInput;
+    }
     const std::size_t inverted = deform::inverted_elements<D>(x, mesh.elements).size();
     const std::size_t crossings = s.timed("check", [&] { return ops.crossings(points); });
     fr["inverted_elements"] = inverted;
@@ -436,6 +448,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     dim3::Surface surface = read.surface;
     InputOps ops;
     ops.extension = ".obj";
+    ops.max_coordinate = dim3::kMaxCoordinate3;
     const auto moved = [surface](const Eigen::MatrixXd& p) {
       dim3::Surface out = surface;
       for (std::size_t v = 0; v < out.vertices.size(); ++v)
@@ -476,6 +489,7 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
   };
   InputOps ops;
   ops.extension = ".txt";
+  ops.max_coordinate = dim2::kMaxCoordinate2;
   ops.format = [moved](const Eigen::MatrixXd& p) { return dim2::format_curves_text(moved(p)); };
   ops.crossings = [moved](const Eigen::MatrixXd& p) { return dim2::check_generic(moved(p)).crossings; };
   return on_mesh<2>(s, cl, command, in, m.mesh.reference, ops, file);

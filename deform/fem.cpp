@@ -130,6 +130,10 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
   double objective = potential.value(x);
   for (int iteration = 0; iteration < options.max_newton_iterations; ++iteration) {
     potential.gradient_and_hessian(x, dof, gradient, hessian);
+    if (!std::isfinite(objective) || !gradient.allFinite()) {  // forces or positions beyond doubles
+      report.error = "the potential or its gradient is not finite (forces, displacements or the time step out of range)";
+      break;
+    }
     // A new matrix every iteration: CHOLMOD's supernodal factorization (BENCHMARKS.md).
     if (!factor.compute(hessian, FactorUse::factor_often)) {
       report.error = "the Newton matrix could not be factored";

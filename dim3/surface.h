@@ -19,6 +19,10 @@ using Triangle = std::array<std::uint32_t, 3>;
 
 /// Orientation convention: counter-clockwise seen from outside, i.e. the normal
 /// (v1 - v0) x (v2 - v0) points out of the enclosed volume (winding number +1 inside).
+/// The largest absolute coordinate of a 3D input (README, Limits): validate_surface refuses larger
+/// ones with an OutOfRange defect (exit 2).
+inline constexpr double kMaxCoordinate3 = 1e300;
+
 struct Surface {
   std::vector<Point3> vertices;
   std::vector<Triangle> triangles;

@@ -19,9 +19,6 @@
 namespace imm::dim3 {
 namespace {
 
-/// The largest absolute coordinate of a 3D input (README, Limits): an OutOfRange defect beyond.
-constexpr double kMaxCoordinate3 = 1e300;
-
 using IK = CGAL::Exact_predicates_inexact_constructions_kernel;
 constexpr const char* kValidateStage = "validate";
 constexpr std::size_t kMaxDefectsPerKind = 20;

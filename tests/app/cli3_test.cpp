@@ -683,6 +683,8 @@ TEST_F(Cli3Test, UsageErrorsExitWith64) {
       "mesh square.txt --all",          // 3D only
       "mesh square.txt --threads 2",
       "mesh square.txt --conforming --edge-length 0.1",  // 3D sizing
+      "mesh square.txt --conforming --method csg",       // the CSG baseline is for the background mesher
+      "mesh square.txt --conforming --background bg.mesh",
   };
   for (const std::string& args : bad) {
     const Outcome r = run(args);

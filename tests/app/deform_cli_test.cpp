@@ -152,6 +152,7 @@ TEST_F(DeformCli, MesherOptionsAreCheckedAsMeshChecksThem) {
       "ts.obj --background bg.obj",
       "fig7.txt --surface-resolution 16",
       "fig7.txt --conforming --edge-length 0.1",
+      "fig7.txt --conforming --background bg.mesh",
   };
   for (const char* args : bad) {
     SCOPED_TRACE(args);

@@ -118,4 +118,22 @@ TEST_F(HostileInput, DeformChecksItsOptionsLikeMesh) {
   EXPECT_FALSE(exists("out"));
 }
 
+// Displacements and forces beyond the range of doubles: ARAP moved the input to 1e300 and counted
+// self-intersections of coordinates past the input range; FEM under a gravity of 1e308 reported a
+// converged step and moved nothing. Both are now invalid handle data (exit 2) naming the frame.
+TEST_F(HostileInput, DeformationsOutOfRangeAreRefused) {
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  write("far.json", R"({"handles": [{"vertices": [0], "fixed": true}, {"vertices": [5], "displacement": [1e300, 0]}]})");
+  Outcome r = run("deform fig7.txt --handles far.json -o far --resolution 8 --frames 1");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_CONTAINS(r.output, "frame 1: the deformed input leaves the coordinate range");
+  write("heavy.json", R"({"handles": [{"vertices": [0], "fixed": true}], "gravity": [1e308, 1e308]})");
+  r = run("deform fig7.txt --handles heavy.json -o heavy --resolution 8 --frames 1 --method fem");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_CONTAINS(r.output, "not finite");
+  // In range, the same handles deform.
+  write("near.json", R"({"handles": [{"vertices": [0], "fixed": true}, {"vertices": [5], "displacement": [100, 0]}]})");
+  EXPECT_EQ(run("deform fig7.txt --handles near.json -o near --resolution 8 --frames 1").code, 0);
+}
+
 }  // namespace
