@@ -20,7 +20,6 @@
 #include <cmath>
 #include <map>
 
-#include "core/union_find.h"
 #include "dim3/generators3.h"
 #include "dim3/graded_background.h"
 #include "dim3/mesh3.h"
@@ -102,23 +101,6 @@ BENCHMARK(BM_GradedBackground_Comb)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 
-std::size_t components(const dim3::TetMesh& m) {
-  UnionFind uf(m.tets.size());
-  std::map<std::array<int, 3>, std::size_t> first;
-  for (std::size_t t = 0; t < m.tets.size(); ++t)
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> f{};
-      for (int k = 0, j = 0; k < 4; ++k)
-        if (k != skip) f[j++] = m.tets[t][k];
-      std::sort(f.begin(), f.end());
-      const auto [it, inserted] = first.emplace(f, t);
-      if (!inserted) uf.unite(it->second, t);
-    }
-  std::size_t n = 0;
-  for (std::size_t t = 0; t < m.tets.size(); ++t) n += uf.find(t) == t ? 1 : 0;
-  return n;
-}
-
 void BM_Mesh3_GradedComb(benchmark::State& state) {
   const dim3::Surface comb = dim3::comb(static_cast<int>(state.range(0)));
   dim3::ImmerseOptions io;
@@ -148,7 +130,7 @@ void BM_Mesh3_GradedComb(benchmark::State& state) {
   state.counters["output_tets"] = static_cast<double>(result.stats.output_tets);
   state.counters["cut_tets"] = static_cast<double>(result.stats.cut_tets);
   state.counters["duplicated"] = static_cast<double>(duplicated);
-  state.counters["components"] = static_cast<double>(components(result.mesh));
+  state.counters["components"] = static_cast<double>(dim3::face_connected_components(result.mesh));
   state.counters["background_s"] = result.stats.seconds_background;
   state.counters["virtual_s"] = result.stats.seconds_virtual;
   state.counters["assembly_s"] = result.stats.seconds_assembly;

@@ -26,6 +26,7 @@
 #include <string_view>
 
 #include "core/medit.h"
+#include "core/union_find.h"
 #include "dim3/tet_mesh.h"
 #include "dim3/text_io.h"
 
@@ -887,6 +888,23 @@ TetGenTexts format_tetgen(const TetMesh& mesh) {
     out.ele += ' ' + std::to_string(t < mesh.reference.size() ? mesh.reference[t] : 0) + '\n';
   }
   return out;
+}
+
+std::size_t face_connected_components(const TetMesh& mesh) {
+  UnionFind uf(mesh.tets.size());
+  std::map<std::array<int, 3>, std::size_t> first;  // face -> first tet seen with it
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> f{};
+      for (int k = 0, j = 0; k < 4; ++k)
+        if (k != skip) f[static_cast<std::size_t>(j++)] = mesh.tets[t][static_cast<std::size_t>(k)];
+      std::sort(f.begin(), f.end());
+      const auto [it, inserted] = first.emplace(f, t);
+      if (!inserted) uf.unite(it->second, t);
+    }
+  std::size_t n = 0;
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) n += uf.find(t) == t ? 1 : 0;
+  return n;
 }
 
 }  // namespace imm::dim3

@@ -75,6 +75,11 @@ TetGenTexts format_tetgen(const TetMesh& mesh);
 /// The two paths of a TetGen mesh named by either of them: 'x.node' or 'x.ele' -> {x.node, x.ele}.
 std::array<std::string, 2> tetgen_paths(const std::string& path);
 
+/// Face-connected components of a tet mesh: tets sharing a face (the same three output vertices)
+/// are in one component. An unglued mesh's overlapping parts share no face, so this counts the
+/// solids a simulation sees (the comb's teeth apart, Fig. 21).
+std::size_t face_connected_components(const TetMesh& mesh);
+
 /// A background grid: cubes of side h = (longest side of `box`) / resolution covering `box` with a
 /// margin of at least one cube, each split into 6 Kuhn (Freudenthal) tets around its main
 /// diagonal (conforming across cubes, all positively oriented). `attempt` shifts the grid by a

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <map>
 
-#include "core/union_find.h"
 #include "dim3/generators3.h"
 #include "dim3/mesh3.h"
 #include "dim3/self_connecting.h"
@@ -30,25 +29,6 @@ struct CombRun {
   std::size_t components = 0;  ///< face-connected components of the output
 };
 
-/// Face-connected components of a tet mesh (faces as sorted output vertex triples).
-std::size_t components(const dim3::TetMesh& m) {
-  UnionFind uf(m.tets.size());
-  std::map<std::array<int, 3>, std::size_t> first;
-  for (std::size_t t = 0; t < m.tets.size(); ++t) {
-    for (int skip = 0; skip < 4; ++skip) {
-      std::array<int, 3> f{};
-      for (int k = 0, j = 0; k < 4; ++k)
-        if (k != skip) f[j++] = m.tets[t][k];
-      std::sort(f.begin(), f.end());
-      const auto [it, inserted] = first.emplace(f, t);
-      if (!inserted) uf.unite(it->second, t);
-    }
-  }
-  std::size_t n = 0;
-  for (std::size_t t = 0; t < m.tets.size(); ++t) n += uf.find(t) == t ? 1 : 0;
-  return n;
-}
-
 CombRun run(const std::string& name, const dim3::Surface& surface, const dim3::MeshOptions& options) {
   dim3::ImmerseOptions immerse;
   immerse.build.exact_volumes = false;
@@ -64,7 +44,7 @@ CombRun run(const std::string& name, const dim3::Surface& surface, const dim3::M
   std::map<int, std::size_t> copies;
   for (int t : r.mesh.background_tet) ++copies[t];
   for (const auto& [tet, n] : copies) r.duplicated += n > 1 ? 1 : 0;  // winding number 1 everywhere
-  r.components = components(r.mesh.mesh);
+  r.components = dim3::face_connected_components(r.mesh.mesh);
   return r;
 }
 
