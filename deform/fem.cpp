@@ -218,9 +218,14 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
   SparseCholesky factor;
   factor.analyze(pattern.matrix, FactorUse::factor_often);
   double objective = potential.value(x);
+  // Once a full Newton step on the exact Hessian moved no vertex by more than 1e-3 of the mean
+  // edge, the Hessian hardly changes any more: the next iterations solve with that factor again
+  // (chord steps, each gaining about as many digits as the last step was small relative to the
+  // edge) instead of a new factorization, the step's dominant cost.
+  bool reuse_factor = false;
   for (int iteration = 0; iteration < options.max_newton_iterations; ++iteration) {
     NewtonMatrix matrix = NewtonMatrix::exact;
-    potential.gradient_and_hessian(x, &pattern, matrix, gradient);
+    potential.gradient_and_hessian(x, reuse_factor ? nullptr : &pattern, matrix, gradient);
     if (!std::isfinite(objective) || !gradient.allFinite()) {  // forces or positions beyond doubles
       report.error = "the potential or its gradient is not finite (forces, displacements or the time step out of range)";
       break;
@@ -229,7 +234,7 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     // indefinite (compressed elements far from the minimum; at a minimum it is semidefinite, so
     // the last iterations are quadratic), and this iteration uses the projected one, then, should
     // that sum be singular, the fixed-rotation one.
-    bool factored = factor.factorize(pattern.matrix);
+    bool factored = reuse_factor || factor.factorize(pattern.matrix);
     while (!factored && matrix != NewtonMatrix::fixed_rotation) {
       matrix = matrix == NewtonMatrix::exact ? NewtonMatrix::projected : NewtonMatrix::fixed_rotation;
       potential.gradient_and_hessian(x, &pattern, matrix, gradient);
@@ -269,6 +274,7 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
       report.converged = direction.rowwise().norm().maxCoeff() <= 1e3 * options.step_tolerance * data.edge_length;
       break;
     }
+    reuse_factor = matrix == NewtonMatrix::exact && alpha == 1.0 && report.max_step <= 1e-3 * data.edge_length;
     x = trial;
     objective = trial_value;
     if (report.max_step <= options.step_tolerance * data.edge_length) {
