@@ -1,6 +1,10 @@
 #include "deform/fem.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include <Eigen/SVD>
+#include <Eigen/SparseCore>
 
 #include "deform/rotation.h"
 #include "deform/sparse_cholesky.h"
@@ -8,6 +12,21 @@
 namespace imm::deform {
 
 namespace {
+
+/// Which matrix a Newton iteration solves with. `exact`: the Hessian of the potential, with the
+/// change of the rotation (dR/dF): quadratic convergence, but the co-rotated energy is not convex
+/// under compression, so it can be indefinite. `projected`: the same with each element's negative
+/// eigenvalues clamped to 0 (always semidefinite; converges only linearly, fast, where the clamp
+/// is active, e.g. the compressed side of a bent bar). `fixed_rotation`: the classic co-rotational
+/// stiffness with R held fixed (semidefinite; linear convergence, slow: about 0.75 per iteration).
+enum class NewtonMatrix { exact, projected, fixed_rotation };
+
+template <int D>
+struct HessianPattern {
+  Eigen::SparseMatrix<double> matrix;  ///< both triangles; values rewritten every Newton iteration
+  std::vector<int> element_slots;      ///< per element D(D+1) x D(D+1) indices into matrix's values
+  std::vector<int> vertex_slots;       ///< per vertex D x D (inertia and ground)
+};
 
 /// The potential minimized by a step: inertia (weight 1/h^2, or 0 in statics), elasticity,
 /// gravity, ground penalty.
@@ -44,40 +63,70 @@ struct Potential {
     return total;
   }
 
-  /// Gradient (n x D) and the Newton matrix on the free degrees of freedom (`dof` maps
-  /// vertex * D + axis to a free index, or -1).
-  void gradient_and_hessian(const Eigen::MatrixXd& x, const std::vector<Eigen::Index>& dof, Eigen::MatrixXd& gradient,
-                            Eigen::SparseMatrix<double>& hessian) const {
+  /// Gradient (n x D) and, when `pattern` is given, the Newton matrix `hessian` on the free
+  /// degrees of freedom written into pattern->matrix's values (its sparsity is fixed per mesh, so
+  /// the factorization's symbolic analysis is done once).
+  void gradient_and_hessian(const Eigen::MatrixXd& x, HessianPattern<D>* pattern, NewtonMatrix hessian,
+                            Eigen::MatrixXd& gradient) const {
+    constexpr int N = D * (D + 1);
+    using Square = Eigen::Matrix<double, D, D>;
     const double mu = options.material.mu(), lambda = options.material.lambda();
     gradient.setZero(x.rows(), D);
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(static_cast<std::size_t>(data.rest.element_count()) * (D + 1) * (D + 1) * D * D +
-                     static_cast<std::size_t>(x.rows()) * D);
+    double* values = nullptr;
+    if (pattern != nullptr) {
+      pattern->matrix.coeffs().setZero();
+      values = pattern->matrix.valuePtr();
+    }
     for (Eigen::Index e = 0; e < data.rest.element_count(); ++e) {
       const ElementGeometry<D>& g = data.geometry[static_cast<std::size_t>(e)];
-      const Eigen::Matrix<double, D, D> f = gradient_of(x, e), r = closest_rotation<D>(f);
-      const double trace = (r.transpose() * f).trace() - D;
-      const Eigen::Matrix<double, D, D> stress = 2.0 * mu * (f - r) + lambda * trace * r;  // first Piola-Kirchhoff
-      const Eigen::Matrix<double, D, D + 1> forces = g.volume * stress * g.gradients.transpose();  // column i: dE/dx_i
-      const Eigen::Matrix<double, D, D + 1> rotated = r * g.gradients.transpose();                // column i: R b_i
-      for (int i = 0; i < D + 1; ++i) {
-        const Eigen::Index vi = data.rest.elements(e, i);
-        gradient.row(vi) += forces.col(i).transpose();
-        for (int j = 0; j < D + 1; ++j) {
-          const Eigen::Index vj = data.rest.elements(e, j);
-          const double shape = 2.0 * mu * g.gradients.row(i).dot(g.gradients.row(j));
-          const Eigen::Matrix<double, D, D> block =
-              g.volume * (shape * Eigen::Matrix<double, D, D>::Identity() + lambda * rotated.col(i) * rotated.col(j).transpose());
-          for (int a = 0; a < D; ++a) {
-            const Eigen::Index row = dof[static_cast<std::size_t>(vi * D + a)];
-            if (row < 0) continue;
-            for (int b = 0; b < D; ++b) {
-              const Eigen::Index col = dof[static_cast<std::size_t>(vj * D + b)];
-              if (col >= 0) triplets.emplace_back(row, col, block(a, b));
-            }
-          }
-        }
+      const Square f = gradient_of(x, e);
+      // Signed SVD F = U diag(s) V^T with det(U V^T) = +1 (the last singular value negated for
+      // an inverted F): R = U V^T is closest_rotation(F), S = V diag(s) V^T, tr S = sum s.
+      const Eigen::JacobiSVD<Square> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Square u = svd.matrixU();
+      const Square v = svd.matrixV();
+      Eigen::Matrix<double, D, 1> s = svd.singularValues();
+      if ((u * v.transpose()).determinant() < 0.0) {
+        u.col(D - 1) *= -1.0;
+        s[D - 1] *= -1.0;
       }
+      const Square r = u * v.transpose();
+      const double trace = s.sum() - D;
+      const Square stress = 2.0 * mu * (f - r) + lambda * trace * r;  // first Piola-Kirchhoff
+      const Eigen::Matrix<double, D, D + 1> forces = g.volume * stress * g.gradients.transpose();  // column i: dE/dx_i
+      for (int i = 0; i < D + 1; ++i) gradient.row(data.rest.elements(e, i)) += forces.col(i).transpose();
+      if (pattern == nullptr) continue;
+      // dP = 2 mu dF + lambda (R:dF) R + (lambda tr(S - I) - 2 mu) dR, and dR vanishes on the
+      // dF that are symmetric in the (U, V) frame, while the twists Q_kl = U (e_k e_l^T - e_l
+      // e_k^T) V^T / sqrt 2 are its eigenvectors with eigenvalue 2 / (s_k + s_l) (and R:Q_kl =
+      // 0). So d2Psi/dF2 = 2 mu I + lambda r r^T + sum_kl c_kl q_kl q_kl^T with c_kl = (lambda
+      // tr(S - I) - 2 mu) 2 / (s_k + s_l): eigenvalues 2 mu + c_kl on the twists (negative under
+      // compression; the projected matrix clamps them to 0, Smith et al. 2019's analytic
+      // projection), the others >= 2 mu (lambda >= 0). With dF =
+      // sum_i dx_i b_i^T, a matrix A enters the element matrix as the vector (A b_i)_i.
+      Eigen::Matrix<double, N, N> k = Eigen::Matrix<double, N, N>::Zero();
+      const Eigen::Matrix<double, D + 1, D + 1> shape = g.gradients * g.gradients.transpose();
+      for (int i = 0; i < D + 1; ++i)
+        for (int j = 0; j < D + 1; ++j) k.template block<D, D>(i * D, j * D).diagonal().setConstant(2.0 * mu * shape(i, j));
+      Eigen::Matrix<double, N, 1> column;
+      for (int i = 0; i < D + 1; ++i) column.template segment<D>(i * D) = r * g.gradients.row(i).transpose();
+      k.noalias() += lambda * column * column.transpose();
+      if (hessian != NewtonMatrix::fixed_rotation) {
+        const Eigen::Matrix<double, D, D + 1> vb = v.transpose() * g.gradients.transpose();
+        for (int a = 0; a < D; ++a)
+          for (int b = a + 1; b < D; ++b) {
+            const double denominator = s[a] + s[b];
+            // s_a + s_b <= 0 only in a strongly inverted element, where R jumps: keep R fixed there.
+            if (!(denominator > 0.0)) continue;
+            const double c = (lambda * trace - 2.0 * mu) * 2.0 / denominator;
+            for (int i = 0; i < D + 1; ++i)
+              column.template segment<D>(i * D) = (u.col(a) * vb(b, i) - u.col(b) * vb(a, i)) * std::sqrt(0.5);
+            k.noalias() += (hessian == NewtonMatrix::exact ? c : std::max(c, -2.0 * mu)) * column * column.transpose();
+          }
+      }
+      const int* slots = pattern->element_slots.data() + static_cast<std::size_t>(e) * N * N;
+      for (int q = 0; q < N * N; ++q)
+        if (slots[q] >= 0) values[slots[q]] += g.volume * k(q % N, q / N);
     }
     for (Eigen::Index v = 0; v < x.rows(); ++v) {
       const double m = data.mass[v];
@@ -87,7 +136,7 @@ struct Potential {
         diagonal += inertia_weight * m;
       }
       if (options.gravity.size() == D) gradient.row(v) -= m * options.gravity.transpose();
-      Eigen::Matrix<double, D, D> ground = Eigen::Matrix<double, D, D>::Zero();
+      Square ground = Square::Zero();
       if (options.ground_normal.size() == D) {
         const double depth = options.ground_offset - x.row(v).dot(options.ground_normal);
         if (depth > 0.0) {
@@ -95,19 +144,57 @@ struct Potential {
           ground = options.ground_stiffness * m * options.ground_normal * options.ground_normal.transpose();
         }
       }
-      for (int a = 0; a < D; ++a) {
-        const Eigen::Index row = dof[static_cast<std::size_t>(v * D + a)];
-        if (row < 0) continue;
-        for (int b = 0; b < D; ++b) {
-          const Eigen::Index col = dof[static_cast<std::size_t>(v * D + b)];
-          const double value = ground(a, b) + (a == b ? diagonal : 0.0);
-          if (col >= 0 && value != 0.0) triplets.emplace_back(row, col, value);
-        }
-      }
+      if (pattern == nullptr) continue;
+      const int* slots = pattern->vertex_slots.data() + static_cast<std::size_t>(v) * D * D;
+      for (int q = 0; q < D * D; ++q)
+        if (slots[q] >= 0) values[slots[q]] += ground(q % D, q / D) + (q % D == q / D ? diagonal : 0.0);
     }
-    hessian.setFromTriplets(triplets.begin(), triplets.end());
   }
 };
+
+/// The sparsity of the Newton matrix on the free degrees of freedom (`dof` maps vertex * D +
+/// axis to a free index, or -1), and where each element's and vertex's entries go in its value
+/// array (column-major within the element's D(D+1) square; -1 for a fixed row or column), so
+/// that assembly writes values in place, in element order (deterministic), without triplets.
+template <int D>
+HessianPattern<D> hessian_pattern(const SimplexMesh<D>& mesh, const std::vector<Eigen::Index>& dof, Eigen::Index free_count) {
+  constexpr int N = D * (D + 1);
+  const auto global = [&](Eigen::Index e, int local) {
+    return dof[static_cast<std::size_t>(mesh.elements(e, local / D) * D + local % D)];
+  };
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<std::size_t>(mesh.element_count()) * N * N + static_cast<std::size_t>(free_count) * D);
+  for (Eigen::Index e = 0; e < mesh.element_count(); ++e)
+    for (int p = 0; p < N; ++p)
+      for (int q = 0; q < N; ++q)
+        if (global(e, p) >= 0 && global(e, q) >= 0) triplets.emplace_back(global(e, p), global(e, q), 1.0);
+  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v)
+    for (int a = 0; a < D; ++a)
+      for (int b = 0; b < D; ++b) {
+        const Eigen::Index row = dof[static_cast<std::size_t>(v * D + a)], col = dof[static_cast<std::size_t>(v * D + b)];
+        if (row >= 0 && col >= 0) triplets.emplace_back(row, col, 1.0);
+      }
+  HessianPattern<D> pattern;
+  pattern.matrix.resize(free_count, free_count);
+  pattern.matrix.setFromTriplets(triplets.begin(), triplets.end());
+  pattern.matrix.makeCompressed();
+  const auto slot = [&](Eigen::Index row, Eigen::Index col) -> int {
+    if (row < 0 || col < 0) return -1;
+    const int* begin = pattern.matrix.innerIndexPtr() + pattern.matrix.outerIndexPtr()[col];
+    const int* end = pattern.matrix.innerIndexPtr() + pattern.matrix.outerIndexPtr()[col + 1];
+    return static_cast<int>(std::lower_bound(begin, end, static_cast<int>(row)) - pattern.matrix.innerIndexPtr());
+  };
+  pattern.element_slots.resize(static_cast<std::size_t>(mesh.element_count()) * N * N);
+  for (Eigen::Index e = 0; e < mesh.element_count(); ++e)
+    for (int q = 0; q < N * N; ++q)
+      pattern.element_slots[static_cast<std::size_t>(e) * N * N + q] = slot(global(e, q % N), global(e, q / N));
+  pattern.vertex_slots.resize(static_cast<std::size_t>(mesh.vertex_count()) * D * D);
+  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v)
+    for (int q = 0; q < D * D; ++q)
+      pattern.vertex_slots[static_cast<std::size_t>(v) * D * D + q] =
+          slot(dof[static_cast<std::size_t>(v * D + q % D)], dof[static_cast<std::size_t>(v * D + q / D)]);
+  return pattern;
+}
 
 template <int D>
 FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eigen::MatrixXd& fixed_targets) {
@@ -125,17 +212,35 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
   // (the loop above numbers the free degrees of freedom in vertex-major order)
 
   Eigen::MatrixXd gradient;
-  Eigen::SparseMatrix<double> hessian(free_count, free_count);
+  HessianPattern<D> pattern = hessian_pattern<D>(data.rest, dof, free_count);
+  // One ordering and symbolic factorization for all iterations; CHOLMOD's supernodal numeric
+  // factorization per iteration (BENCHMARKS.md).
   SparseCholesky factor;
+  factor.analyze(pattern.matrix, FactorUse::factor_often);
   double objective = potential.value(x);
+  // Once a full Newton step on the exact Hessian moved no vertex by more than 1e-3 of the mean
+  // edge, the Hessian hardly changes any more: the next iterations solve with that factor again
+  // (chord steps, each gaining about as many digits as the last step was small relative to the
+  // edge) instead of a new factorization, the step's dominant cost.
+  bool reuse_factor = false;
   for (int iteration = 0; iteration < options.max_newton_iterations; ++iteration) {
-    potential.gradient_and_hessian(x, dof, gradient, hessian);
+    NewtonMatrix matrix = NewtonMatrix::exact;
+    potential.gradient_and_hessian(x, reuse_factor ? nullptr : &pattern, matrix, gradient);
     if (!std::isfinite(objective) || !gradient.allFinite()) {  // forces or positions beyond doubles
       report.error = "the potential or its gradient is not finite (forces, displacements or the time step out of range)";
       break;
     }
-    // A new matrix every iteration: CHOLMOD's supernodal factorization (BENCHMARKS.md).
-    if (!factor.compute(hessian, FactorUse::factor_often)) {
+    // The exact Hessian first, every iteration: a failed Cholesky factorization proves it
+    // indefinite (compressed elements far from the minimum; at a minimum it is semidefinite, so
+    // the last iterations are quadratic), and this iteration uses the projected one, then, should
+    // that sum be singular, the fixed-rotation one.
+    bool factored = reuse_factor || factor.factorize(pattern.matrix);
+    while (!factored && matrix != NewtonMatrix::fixed_rotation) {
+      matrix = matrix == NewtonMatrix::exact ? NewtonMatrix::projected : NewtonMatrix::fixed_rotation;
+      potential.gradient_and_hessian(x, &pattern, matrix, gradient);
+      factored = factor.factorize(pattern.matrix);
+    }
+    if (!factored) {
       report.error = "the Newton matrix could not be factored";
       break;
     }
@@ -147,14 +252,18 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     for (std::size_t i = 0; i < dof.size(); ++i)
       if (dof[i] >= 0) direction(static_cast<Eigen::Index>(i) / D, static_cast<Eigen::Index>(i) % D) = step[dof[i]];
     const double slope = -rhs.dot(step);  // directional derivative, < 0 for a descent direction
-    // Backtracking (Armijo) on the true potential.
+    // Backtracking (Armijo) on the true potential. Near the minimum a quadratically convergent
+    // Newton step decreases the potential by less than the round-off of its sum over elements
+    // (about 1e-14 of it): the test allows that much, else it would take a tiny damped step
+    // there, which the step test below would mistake for convergence.
+    const double round_off = 1e-12 * std::abs(objective);
     double alpha = 1.0, trial_value = 0.0;
     Eigen::MatrixXd trial;
     bool accepted = false;
     for (int halving = 0; halving < 40; ++halving, alpha *= 0.5) {
       trial = x + alpha * direction;
       trial_value = potential.value(trial);
-      if (trial_value <= objective + 1e-4 * alpha * slope) {
+      if (trial_value <= objective + 1e-4 * alpha * slope + round_off) {
         accepted = true;
         break;
       }
@@ -165,6 +274,7 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
       report.converged = direction.rowwise().norm().maxCoeff() <= 1e3 * options.step_tolerance * data.edge_length;
       break;
     }
+    reuse_factor = matrix == NewtonMatrix::exact && alpha == 1.0 && report.max_step <= 1e-3 * data.edge_length;
     x = trial;
     objective = trial_value;
     if (report.max_step <= options.step_tolerance * data.edge_length) {
@@ -209,10 +319,8 @@ Eigen::MatrixXd elastic_forces(const FemData<D>& data, const Eigen::MatrixXd& po
   FemOptions options;
   options.material = material;
   const Potential<D> potential{data, options};
-  std::vector<Eigen::Index> dof(static_cast<std::size_t>(positions.rows() * D), -1);  // no Hessian wanted
   Eigen::MatrixXd gradient;
-  Eigen::SparseMatrix<double> unused(0, 0);
-  potential.gradient_and_hessian(positions, dof, gradient, unused);
+  potential.gradient_and_hessian(positions, nullptr, NewtonMatrix::fixed_rotation, gradient);  // no Hessian wanted
   return -gradient;
 }
 

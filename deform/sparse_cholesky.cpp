@@ -21,6 +21,18 @@ bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse use
   return impl_->factor.info() == Eigen::Success;
 }
 
+void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& pattern, FactorUse use) {
+  impl_ = std::make_unique<Impl>();
+  impl_->factor.cholmod().print = 0;
+  impl_->factor.setMode(use == FactorUse::solve_often ? Eigen::CholmodSimplicialLLt : Eigen::CholmodSupernodalLLt);
+  impl_->factor.analyzePattern(pattern);
+}
+
+bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& a) {
+  impl_->factor.factorize(a);
+  return impl_->factor.info() == Eigen::Success;
+}
+
 const char* SparseCholesky::backend() { return "CHOLMOD"; }
 #else
 struct SparseCholesky::Impl {
@@ -31,6 +43,16 @@ bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse /*u
   impl_ = std::make_unique<Impl>();
   impl_->factor.compute(a);
   // LDL^T succeeds on indefinite matrices too: positive definite means every pivot positive.
+  return impl_->factor.info() == Eigen::Success && (a.rows() == 0 || impl_->factor.vectorD().minCoeff() > 0.0);
+}
+
+void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& pattern, FactorUse /*use*/) {
+  impl_ = std::make_unique<Impl>();
+  impl_->factor.analyzePattern(pattern);
+}
+
+bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& a) {
+  impl_->factor.factorize(a);
   return impl_->factor.info() == Eigen::Success && (a.rows() == 0 || impl_->factor.vectorD().minCoeff() > 0.0);
 }
 

@@ -26,6 +26,12 @@ class SparseCholesky {
   /// Factors the symmetric matrix `a` (both triangles stored). Returns false when `a` is not
   /// (numerically) positive definite.
   bool compute(const Eigen::SparseMatrix<double>& a, FactorUse use = FactorUse::solve_often);
+  /// The two halves of compute(), for a sequence of matrices with one sparsity pattern (the FEM
+  /// Newton iterations): the fill-reducing ordering and symbolic factorization of `pattern` once,
+  /// then a numeric factorization per matrix. factorize() returns false as compute() does.
+  /// @pre factorize: analyze() ran on a matrix with the same pattern (both triangles stored).
+  void analyze(const Eigen::SparseMatrix<double>& pattern, FactorUse use = FactorUse::solve_often);
+  bool factorize(const Eigen::SparseMatrix<double>& a);
   /// A^{-1} b for every column of `b`. @pre compute() returned true.
   [[nodiscard]] Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const;
   /// The backend's name, for reports ("CHOLMOD" or "Eigen SimplicialLDLT").
