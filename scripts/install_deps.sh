@@ -13,6 +13,9 @@ packages+=(libtet1.5-dev)
 # CHOLMOD (SuiteSparse): the sparse Cholesky of deform/ (ARAP, FEM, weights), several times faster
 # than Eigen's own on tet meshes; deform/ falls back to Eigen's without it.
 packages+=(libsuitesparse-dev)
+# OpenBLAS (single-threaded build, deterministic): the BLAS CHOLMOD's supernodal factor runs on.
+# Debian's default reference BLAS makes the factorizations of deform/ 2-8x slower.
+packages+=(libopenblas0-serial)
 packages+=(pybind11-dev python3-dev python3-numpy)  # the Python module (python/) and its tests
 missing=()
 for p in "${packages[@]}"; do
