@@ -47,16 +47,6 @@ I128 det(const L3& a, const L3& b, const L3& c, const L3& d) {
          e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
 }
 
-Box3 box_of(const Surface& s) {
-  Box3 b{s.vertices.front(), s.vertices.front()};
-  for (const Point3& p : s.vertices)
-    for (int d = 0; d < 3; ++d) {
-      b.lo[d] = std::min(b.lo[d], p[d]);
-      b.hi[d] = std::max(b.hi[d], p[d]);
-    }
-  return b;
-}
-
 struct Conformity {
   std::size_t interior_faces = 0, boundary_faces = 0;
 };
@@ -171,7 +161,7 @@ TEST(GradedBackground, MinimumDihedralBoundIsFortyFiveDegrees) {
 
 TEST(GradedBackground, TorusIsConformingAndGraded) {
   const Surface s = torus(24);
-  const GradedBackground g = make_graded_background(s, box_of(s), sizes(4, 32));
+  const GradedBackground g = make_graded_background(s, bounding_box(s), sizes(4, 32));
   ASSERT_TRUE(g.report.ok()) << g.report.summary();
   const Conformity c = check_conforming(g);
   EXPECT_GT(c.interior_faces, 0u);
@@ -188,7 +178,7 @@ TEST(GradedBackground, TorusIsConformingAndGraded) {
 
 TEST(GradedBackground, CombGapsAreRefinedFurther) {
   const Surface s = comb(3);
-  const GradedBackground g = make_graded_background(s, box_of(s), sizes(4, 16, 64));
+  const GradedBackground g = make_graded_background(s, bounding_box(s), sizes(4, 16, 64));
   ASSERT_TRUE(g.report.ok()) << g.report.summary();
   check_conforming(g);
   EXPECT_EQ(g.stats.gap_levels, 2);
@@ -196,7 +186,7 @@ TEST(GradedBackground, CombGapsAreRefinedFurther) {
   EXPECT_GT(g.stats.gap_tets, 0u);
   EXPECT_GE(g.stats.min_dihedral_deg, graded_min_dihedral_bound() - 1e-9);
   // Deterministic.
-  const GradedBackground again = make_graded_background(s, box_of(s), sizes(4, 16, 64));
+  const GradedBackground again = make_graded_background(s, bounding_box(s), sizes(4, 16, 64));
   EXPECT_EQ(again.mesh.vertices, g.mesh.vertices);
   EXPECT_EQ(again.mesh.tets, g.mesh.tets);
 }
@@ -204,7 +194,7 @@ TEST(GradedBackground, CombGapsAreRefinedFurther) {
 TEST(GradedBackground, ShiftedAttemptsStayConforming) {
   const Surface s = mouth(16);
   for (int attempt : {0, 1, 2}) {
-    const GradedBackground g = make_graded_background(s, box_of(s), sizes(2, 8, 16), attempt);
+    const GradedBackground g = make_graded_background(s, bounding_box(s), sizes(2, 8, 16), attempt);
     ASSERT_TRUE(g.report.ok()) << g.report.summary();
     check_conforming(g);
     EXPECT_GE(g.stats.min_dihedral_deg, graded_min_dihedral_bound() - 1e-9);
@@ -215,7 +205,7 @@ TEST(GradedBackground, TooManyTetsIsReported) {
   const Surface s = torus(24);
   GradedOptions o = sizes(2, 512);
   o.max_tets = 10'000;
-  const GradedBackground g = make_graded_background(s, box_of(s), o);
+  const GradedBackground g = make_graded_background(s, bounding_box(s), o);
   EXPECT_FALSE(g.report.ok());
   EXPECT_TRUE(g.mesh.tets.empty());
 }
