@@ -173,19 +173,8 @@ struct LocalRegions {
 
   /// Glues the atoms of one immersion (core/unglue.h) along these fusions and adjacencies: across
   /// a fusion or an adjacency on a patch through the graph's edges across the patch, across an
-  /// input-free adjacency copy by copy.
-  void glue(AtomExpansion<D>& atoms) const {
-    for (const Fusion& f : fusions) atoms.fuse(f.inner, f.outer, f.patch);
-    for (const Adjacency& a : adjacencies) {
-      std::array<std::int32_t, D> face{};
-      std::copy(a.face.begin(), a.face.end(), face.begin());
-      if (a.patch.is_valid()) {
-        atoms.connect_across(a.first, a.second, a.patch, face);
-      } else {
-        atoms.connect(a.first, a.second, face);
-      }
-    }
-  }
+  /// input-free adjacency copy by copy; on `threads` threads (the same lists for every count).
+  void glue(AtomExpansion<D>& atoms, unsigned threads = 1) const { atoms.glue(fusions, adjacencies, threads); }
 };
 
 }  // namespace imm

@@ -64,4 +64,45 @@ void parallel_for(unsigned threads, std::size_t count, const Body& body, std::si
     if (e) std::rethrow_exception(e);
 }
 
+/// Runs body(begin, end) over [0, count) cut into consecutive blocks of `block` items, the blocks
+/// on at most `threads` threads (one block per task: for loops whose items are too cheap to be
+/// scheduled one by one).
+template <class Body>
+void parallel_blocks(unsigned threads, std::size_t count, std::size_t block, const Body& body) {
+  block = std::max<std::size_t>(block, 1);
+  const std::size_t blocks = (count + block - 1) / block;
+  parallel_for(threads, blocks, [&](std::size_t b, unsigned) { body(b * block, std::min(count, (b + 1) * block)); }, 1);
+}
+
+/// An ordered append on several threads: item i of [0, count) produces count_of(i) outputs, which
+/// go to offsets in item order (item i's at the sum of count_of over the items before it), so the
+/// result is the sequential loop's for every thread count. Calls count_of on every item (twice:
+/// keep it cheap and pure), then allocate(total) once on the calling thread, then write(i, offset)
+/// on every item with count_of(i) > 0, which writes its outputs at offset, offset + 1, ...
+/// @return the total.
+template <class Count, class Allocate, class Write>
+std::size_t parallel_ordered_append(unsigned threads, std::size_t count, const Count& count_of,
+                                    const Allocate& allocate, const Write& write, std::size_t block = 8192) {
+  block = std::max<std::size_t>(block, 1);
+  const std::size_t blocks = (count + block - 1) / block;
+  std::vector<std::size_t> offset(blocks + 1, 0);
+  parallel_for(threads, blocks, [&](std::size_t b, unsigned) {
+    std::size_t n = 0;
+    for (std::size_t i = b * block; i < std::min(count, (b + 1) * block); ++i) n += count_of(i);
+    offset[b + 1] = n;
+  }, 1);
+  for (std::size_t b = 0; b < blocks; ++b) offset[b + 1] += offset[b];
+  allocate(offset[blocks]);
+  parallel_for(threads, blocks, [&](std::size_t b, unsigned) {
+    std::size_t at = offset[b];
+    for (std::size_t i = b * block; i < std::min(count, (b + 1) * block); ++i) {
+      const std::size_t n = count_of(i);
+      if (n == 0) continue;
+      write(i, at);
+      at += n;
+    }
+  }, 1);
+  return offset[blocks];
+}
+
 }  // namespace imm

@@ -115,23 +115,37 @@ template UnglueResult<3> unglue<3>(const UnglueInput<3>&);
 template <int D>
 AtomExpansion<D>::AtomExpansion(const CellComplex<D>& complex, const Immersion& immersion,
                                 const std::vector<std::uint32_t>& first, const std::vector<RegionId>& region,
-                                std::vector<std::array<std::int32_t, D + 1>> elements)
+                                std::vector<std::array<std::int32_t, D + 1>> elements, unsigned threads)
     : complex_(complex), immersion_(immersion), region_(region), edges_across_(complex.patch_count()) {
   input_.elements = std::move(elements);
   IMM_ASSERT(first.size() == input_.elements.size() + 1 && first.back() == region.size(),
              "local regions do not match the elements");
   atom_first_.assign(region.size(), kNoAtom);
   const NodeLayout& layout = immersion.layout;
-  for (std::uint32_t e = 0; e + 1 < first.size(); ++e) {
-    for (std::uint32_t lr = first[e]; lr < first[e + 1]; ++lr) {
-      const CellId cell = complex.cell_of(region[lr]);
-      if (!cell.is_valid()) continue;
-      atom_first_[lr] = static_cast<std::uint32_t>(input_.atoms.size());
-      const auto index_in_element = static_cast<std::int32_t>(lr - first[e]);
-      for (int k = 0; k < complex.winding_number(cell); ++k)
-        input_.atoms.push_back({e, layout.node(cell, k), index_in_element});
-    }
-  }
+  // Element by element, in element order: each element's atoms counted, then written at their
+  // offsets (the same atoms for every thread count).
+  std::vector<UnglueAtom>& atoms = input_.atoms;
+  parallel_ordered_append(
+      threads, first.size() - 1,
+      [&](std::size_t e) {
+        std::size_t n = 0;
+        for (std::uint32_t lr = first[e]; lr < first[e + 1]; ++lr) n += connect_count(lr);
+        return n;
+      },
+      [&](std::size_t total) {
+        IMM_ASSERT(total < kNoAtom, "too many atoms");
+        atoms.resize(total);
+      },
+      [&](std::size_t e, std::size_t at) {
+        for (std::uint32_t lr = first[e]; lr < first[e + 1]; ++lr) {
+          const CellId cell = complex.cell_of(region[lr]);
+          if (!cell.is_valid()) continue;
+          atom_first_[lr] = static_cast<std::uint32_t>(at);
+          const auto index_in_element = static_cast<std::int32_t>(lr - first[e]);
+          for (int k = 0; k < complex.winding_number(cell); ++k)
+            atoms[at++] = {static_cast<std::uint32_t>(e), layout.node(cell, k), index_in_element};
+        }
+      });
   for (const ImmersionEdge& edge : immersion.edges) edges_across_[edge.patch].push_back(edge);
 }
 

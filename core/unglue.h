@@ -27,6 +27,7 @@
 #include "core/cell_complex.h"
 #include "core/ids.h"
 #include "core/immersion_graph.h"
+#include "core/parallel.h"
 #include "core/union_find.h"
 
 namespace imm {
@@ -104,8 +105,10 @@ class AtomExpansion {
   /// @param first     local regions of element e are first[e] .. first[e+1]-1
   /// @param region    the region of each local region
   /// @param elements  the background elements (D+1 vertex ids each)
+  /// @param threads   threads for the expansion (the atoms are the same for every count)
   AtomExpansion(const CellComplex<D>& complex, const Immersion& immersion, const std::vector<std::uint32_t>& first,
-                const std::vector<RegionId>& region, std::vector<std::array<std::int32_t, D + 1>> elements);
+                const std::vector<RegionId>& region, std::vector<std::array<std::int32_t, D + 1>> elements,
+                unsigned threads = 1);
 
   /// Local regions `inner` and `outer` of one element lie on the two sides of a piece of `patch`
   /// inside it: every graph edge across the patch glues their atoms (one element copy).
@@ -123,7 +126,21 @@ class AtomExpansion {
   [[nodiscard]] std::uint32_t first_atom(std::uint32_t lr) const { return atom_first_[lr]; }
   [[nodiscard]] const UnglueInput<D>& input() const { return input_; }
 
+  /// Every fusion of `fusions` (fuse(f.inner, f.outer, f.patch)), then every adjacency of
+  /// `adjacencies` (connect_across(a.first, a.second, a.patch, a.face) when a.patch is valid,
+  /// else connect(a.first, a.second, a.face)), in order: the lists these calls would make one by
+  /// one, built on `threads` threads (each item counted, then written at its offset).
+  /// Fusion and Adjacency: LocalRegions<D>::Fusion and ::Adjacency (core/local_regions.h).
+  template <class Fusion, class Adjacency>
+  void glue(const std::vector<Fusion>& fusions, const std::vector<Adjacency>& adjacencies, unsigned threads);
+
  private:
+  /// How many adjacencies connect() adds for local region lr: one per node of its cell.
+  [[nodiscard]] std::size_t connect_count(std::uint32_t lr) const {
+    const CellId cell = complex_.cell_of(region_[lr]);
+    return cell.is_valid() ? static_cast<std::size_t>(complex_.winding_number(cell)) : 0;
+  }
+
   const CellComplex<D>& complex_;
   const Immersion& immersion_;
   const std::vector<RegionId>& region_;
@@ -131,6 +148,45 @@ class AtomExpansion {
   std::vector<std::uint32_t> atom_first_;
   UnglueInput<D> input_;
 };
+
+template <int D>
+template <class Fusion, class Adjacency>
+void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vector<Adjacency>& adjacencies,
+                            unsigned threads) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& fused = input_.fusions;
+  const std::size_t fused_before = fused.size();
+  parallel_ordered_append(
+      threads, fusions.size(), [&](std::size_t i) { return edges_across_[fusions[i].patch].size(); },
+      [&](std::size_t total) { fused.resize(fused_before + total); },
+      [&](std::size_t i, std::size_t at) {
+        const Fusion& f = fusions[i];
+        for (const ImmersionEdge& e : edges_across_[f.patch])
+          fused[fused_before + at++] = {atom(f.inner, e.inner), atom(f.outer, e.outer)};
+      });
+  std::vector<UnglueAdjacency<D>>& connected = input_.adjacencies;
+  const std::size_t connected_before = connected.size();
+  parallel_ordered_append(
+      threads, adjacencies.size(),
+      [&](std::size_t i) {
+        const Adjacency& a = adjacencies[i];
+        return a.patch.is_valid() ? edges_across_[a.patch].size() : connect_count(a.first);
+      },
+      [&](std::size_t total) { connected.resize(connected_before + total); },
+      [&](std::size_t i, std::size_t at) {
+        const Adjacency& a = adjacencies[i];
+        std::array<std::int32_t, D> face{};
+        std::copy(a.face.begin(), a.face.end(), face.begin());
+        if (a.patch.is_valid()) {
+          for (const ImmersionEdge& e : edges_across_[a.patch])
+            connected[connected_before + at++] = {atom(a.first, e.inner), atom(a.second, e.outer), face};
+        } else {
+          const std::size_t n = connect_count(a.first);
+          for (std::size_t k = 0; k < n; ++k)
+            connected[connected_before + at++] = {atom_first_[a.first] + static_cast<std::uint32_t>(k),
+                                                  atom_first_[a.second] + static_cast<std::uint32_t>(k), face};
+        }
+      });
+}
 
 extern template class AtomExpansion<2>;
 extern template class AtomExpansion<3>;

@@ -11,6 +11,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/parallel.h"
 #include "core/unglue.h"
 #include "dim3/mesh3_detail.h"
 
@@ -94,16 +95,22 @@ EmittedCopies emit_copies(const UnglueResult<3>& unglued, const std::vector<char
 
 void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
               const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
-              bool record_contents, MeshResult& result) {
+              bool record_contents, MeshResult& result, unsigned threads) {
   const CellComplex<3>& cc = complex.complex;
   const NodeLayout& layout = immersion.layout;
   StageClock clock;
   // 3. Atoms, fusions and adjacencies for the driver.
-  std::vector<std::array<std::int32_t, 4>> elements;
-  elements.reserve(background.tets.size());
-  for (const Tet& t : background.tets) elements.push_back({t[0], t[1], t[2], t[3]});
-  AtomExpansion<3> expansion(cc, immersion, local.first, local.region, std::move(elements));
-  local.glue(expansion);
+  // On all threads, in element order (the same lists for every thread count): at millions of
+  // background tets this stage was the largest serial one (BENCHMARKS.md, issue 17).
+  std::vector<std::array<std::int32_t, 4>> elements(background.tets.size());
+  parallel_blocks(threads, elements.size(), 1 << 16, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      const Tet& tet = background.tets[t];
+      elements[t] = {tet[0], tet[1], tet[2], tet[3]};
+    }
+  });
+  AtomExpansion<3> expansion(cc, immersion, local.first, local.region, std::move(elements), threads);
+  local.glue(expansion, threads);
   const UnglueInput<3>& input = expansion.input();
   const auto atom_of = [&](std::uint32_t lr, NodeId node) { return expansion.atom(lr, node); };
 
@@ -272,7 +279,7 @@ MeshResult mesh_immersion(const Complex& complex, const Immersion& immersion, co
   // 3.-5. Atoms, duplicate and connect, embedding.
   start = std::chrono::steady_clock::now();
   detail::assemble(complex, immersion, result.background, local, input_vertices, input_triangles,
-                   options.record_contents, result);
+                   options.record_contents, result, resolve_threads(options.threads));
   result.stats.seconds_assembly = seconds_since(start);
   // DESIGN §4.6: the .emb weights reproduce every vertex within 1e-9 of the diagonal. Measured
   // here, in the doubles a reader has, so a background far larger than the input (whose
