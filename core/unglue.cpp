@@ -2,10 +2,12 @@
 #include "core/unglue.h"
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <string>
 
 #include "core/diagnostics.h"
+#include "core/parallel.h"
 #include "core/union_find.h"
 
 namespace imm {
@@ -22,95 +24,182 @@ int local_index(const std::array<std::int32_t, N>& element, std::int32_t v) {
   return -1;
 }
 
+/// Union-find whose unions may run on several threads at once: a root is only ever linked below a
+/// smaller root (compare-and-swap; a lost race retries from the new roots), so the root of every
+/// class is its smallest member, whatever the order of the unions. The classes and their roots
+/// are therefore the same for every thread count, which the unglue numbering relies on. Finds
+/// halve paths with compare-and-swap too (a parent only ever moves to an ancestor, never above
+/// the class's root). Jayanti & Tarjan 2016 describe why such a structure is linearisable.
+class MinRootUnionFind {
+ public:
+  MinRootUnionFind(std::size_t n, unsigned threads) : parent_(n) {
+    parallel_blocks(threads, n, 1 << 16, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t x = begin; x < end; ++x) parent_[x].store(static_cast<std::uint32_t>(x), std::memory_order_relaxed);
+    });
+  }
+  /// The root (smallest member) of x's class; exact once no union runs concurrently.
+  std::uint32_t find(std::uint32_t x) {
+    for (;;) {
+      std::uint32_t parent = parent_[x].load(std::memory_order_relaxed);
+      if (parent == x) return x;
+      const std::uint32_t grandparent = parent_[parent].load(std::memory_order_relaxed);
+      if (grandparent != parent) parent_[x].compare_exchange_weak(parent, grandparent, std::memory_order_relaxed);
+      x = grandparent;
+    }
+  }
+  void unite(std::uint32_t a, std::uint32_t b) {
+    for (;;) {
+      a = find(a);
+      b = find(b);
+      if (a == b) return;
+      if (a < b) std::swap(a, b);
+      std::uint32_t expected = a;  // a is still a root: link it below the smaller root b
+      if (parent_[a].compare_exchange_strong(expected, b, std::memory_order_acq_rel)) return;
+    }
+  }
+
+ private:
+  std::vector<std::atomic<std::uint32_t>> parent_;
+};
+
 }  // namespace
 
 template <int D>
-UnglueResult<D> unglue(const UnglueInput<D>& input) {
+UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
   constexpr int kArity = D + 1;
+  constexpr std::size_t kBlock = 1 << 14;  // items per task of the cheap loops below
   const std::size_t element_count = input.elements.size();
   const std::size_t atom_count = input.atoms.size();
   IMM_ASSERT(atom_count < kNone, "too many atoms");
 
   // 1. Element copies: union-find over atoms, joined by the fusions.
-  UnionFind atoms(atom_count);
-  for (const auto& [a, b] : input.fusions) {
-    IMM_ASSERT(a < atom_count && b < atom_count, "fusion atom out of range");
-    IMM_ASSERT(input.atoms[a].element == input.atoms[b].element,
-               "fusion joins atoms of two elements " + std::to_string(input.atoms[a].element) +
-                   " and " + std::to_string(input.atoms[b].element));
-    atoms.unite(a, b);
-  }
+  MinRootUnionFind atoms(atom_count, threads);
+  parallel_blocks(threads, input.fusions.size(), kBlock, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      const auto [a, b] = input.fusions[f];
+      IMM_ASSERT(a < atom_count && b < atom_count, "fusion atom out of range");
+      IMM_ASSERT(input.atoms[a].element == input.atoms[b].element,
+                 "fusion joins atoms of two elements " + std::to_string(input.atoms[a].element) + " and " +
+                     std::to_string(input.atoms[b].element));
+      atoms.unite(a, b);
+    }
+  });
+  std::vector<std::uint32_t> atom_root(atom_count);
+  parallel_blocks(threads, atom_count, kBlock, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t a = begin; a < end; ++a) {
+      IMM_ASSERT(input.atoms[a].element < element_count, "atom element out of range");
+      atom_root[a] = atoms.find(static_cast<std::uint32_t>(a));
+    }
+  });
 
   // Atoms in (element, index) order: a counting sort keeps the output deterministic and linear.
-  std::vector<std::uint32_t> element_start(element_count + 1, 0);
-  for (const UnglueAtom& atom : input.atoms) {
-    IMM_ASSERT(atom.element < element_count, "atom element out of range");
-    ++element_start[atom.element + 1];
+  // The meshers list atoms element by element already: then the order is the identity.
+  std::vector<std::uint32_t> order;
+  const bool by_element = std::is_sorted(input.atoms.begin(), input.atoms.end(),
+                                         [](const UnglueAtom& x, const UnglueAtom& y) { return x.element < y.element; });
+  if (!by_element) {
+    std::vector<std::uint32_t> element_start(element_count + 1, 0);
+    for (const UnglueAtom& atom : input.atoms) ++element_start[atom.element + 1];
+    for (std::size_t e = 0; e < element_count; ++e) element_start[e + 1] += element_start[e];
+    order.resize(atom_count);
+    for (std::uint32_t a = 0; a < atom_count; ++a) order[element_start[input.atoms[a].element]++] = a;
   }
-  for (std::size_t e = 0; e < element_count; ++e) element_start[e + 1] += element_start[e];
-  std::vector<std::uint32_t> order(atom_count);
-  {
-    std::vector<std::uint32_t> next(element_start.begin(), element_start.end() - 1);
-    for (std::uint32_t a = 0; a < atom_count; ++a) order[next[input.atoms[a].element]++] = a;
-  }
+  const auto atom_at = [&](std::size_t i) { return by_element ? static_cast<std::uint32_t>(i) : order[i]; };
 
+  // A copy is numbered when its first atom in that order comes: its smallest atom, the root of
+  // its class (MinRootUnionFind), so the copies are the roots counted in order. Its node is the
+  // smallest among its atoms, all later in the same element's run.
   UnglueResult<D> out;
-  out.atom_copy.assign(atom_count, kNone);
   std::vector<std::uint32_t> root_copy(atom_count, kNone);
-  for (std::uint32_t a : order) {
-    const std::uint32_t root = atoms.find(a);
-    if (root_copy[root] == kNone) {
-      root_copy[root] = static_cast<std::uint32_t>(out.copy_element.size());
-      out.copy_element.push_back(input.atoms[a].element);
-      out.copy_node.push_back(input.atoms[a].node);
-    }
-    const std::uint32_t copy = root_copy[root];
-    out.atom_copy[a] = copy;
-    out.copy_node[copy] = std::min(out.copy_node[copy], input.atoms[a].node);
-  }
+  parallel_ordered_append(
+      threads, atom_count,
+      [&](std::size_t i) {
+        const std::uint32_t a = atom_at(i);
+        return static_cast<std::size_t>(atom_root[a] == a);
+      },
+      [&](std::size_t total) {
+        out.copy_element.resize(total);
+        out.copy_node.resize(total);
+      },
+      [&](std::size_t i, std::size_t copy) {
+        const std::uint32_t root = atom_at(i);
+        const std::uint32_t element = input.atoms[root].element;
+        NodeId node = input.atoms[root].node;
+        for (std::size_t j = i + 1; j < atom_count; ++j) {
+          const std::uint32_t a = atom_at(j);
+          if (input.atoms[a].element != element) break;
+          if (atom_root[a] == root) node = std::min(node, input.atoms[a].node);
+        }
+        root_copy[root] = static_cast<std::uint32_t>(copy);
+        out.copy_element[copy] = element;
+        out.copy_node[copy] = node;
+      },
+      kBlock);
+  out.atom_copy.resize(atom_count);
+  parallel_blocks(threads, atom_count, kBlock, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t a = begin; a < end; ++a) out.atom_copy[a] = root_copy[atom_root[a]];
+  });
   const std::size_t copy_count = out.copy_element.size();
   IMM_ASSERT(copy_count * kArity < kNone, "too many element copies");
 
   // 2. Vertex copies: D+1 fresh ones per element copy, merged across connected faces.
-  UnionFind vertices(copy_count * kArity);
-  for (const UnglueAdjacency<D>& adjacency : input.adjacencies) {
-    IMM_ASSERT(adjacency.first < atom_count && adjacency.second < atom_count,
-               "adjacency atom out of range");
-    const std::uint32_t element_a = input.atoms[adjacency.first].element;
-    const std::uint32_t element_b = input.atoms[adjacency.second].element;
-    IMM_ASSERT(element_a != element_b, "adjacency inside one element");
-    const std::uint32_t copy_a = out.atom_copy[adjacency.first];
-    const std::uint32_t copy_b = out.atom_copy[adjacency.second];
-    for (std::int32_t v : adjacency.face) {
-      const int ia = local_index(input.elements[element_a], v);
-      const int ib = local_index(input.elements[element_b], v);
-      IMM_ASSERT(ia >= 0 && ib >= 0, "adjacency face vertex " + std::to_string(v) +
-                                         " is not a vertex of both elements");
-      vertices.unite(copy_a * kArity + ia, copy_b * kArity + ib);
-    }
-  }
-
-  // 3. Compact numbering, in order of first use by the copies.
-  std::vector<std::int32_t> class_id(copy_count * kArity, -1);
-  out.copies.resize(copy_count);
-  for (std::uint32_t c = 0; c < copy_count; ++c) {
-    const auto& element = input.elements[out.copy_element[c]];
-    for (int k = 0; k < kArity; ++k) {
-      const std::uint32_t root = vertices.find(c * kArity + k);
-      if (class_id[root] < 0) {
-        class_id[root] = static_cast<std::int32_t>(out.vertex_source.size());
-        out.vertex_source.push_back(element[k]);
+  MinRootUnionFind vertices(copy_count * kArity, threads);
+  parallel_blocks(threads, input.adjacencies.size(), kBlock, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const UnglueAdjacency<D>& adjacency = input.adjacencies[i];
+      IMM_ASSERT(adjacency.first < atom_count && adjacency.second < atom_count, "adjacency atom out of range");
+      const std::uint32_t element_a = input.atoms[adjacency.first].element;
+      const std::uint32_t element_b = input.atoms[adjacency.second].element;
+      IMM_ASSERT(element_a != element_b, "adjacency inside one element");
+      const std::uint32_t copy_a = out.atom_copy[adjacency.first];
+      const std::uint32_t copy_b = out.atom_copy[adjacency.second];
+      for (std::int32_t v : adjacency.face) {
+        const int ia = local_index(input.elements[element_a], v);
+        const int ib = local_index(input.elements[element_b], v);
+        IMM_ASSERT(ia >= 0 && ib >= 0,
+                   "adjacency face vertex " + std::to_string(v) + " is not a vertex of both elements");
+        vertices.unite(copy_a * kArity + static_cast<std::uint32_t>(ia),
+                       copy_b * kArity + static_cast<std::uint32_t>(ib));
       }
-      IMM_ASSERT(out.vertex_source[class_id[root]] == element[k],
-                 "merged vertex copies of two different background vertices");
-      out.copies[c][k] = class_id[root];
     }
-  }
+  });
+
+  // 3. Compact numbering, in order of first use by the copies: a class's first use is its
+  // smallest vertex copy, its root.
+  const std::size_t slot_count = copy_count * kArity;
+  std::vector<std::uint32_t> slot_root(slot_count);
+  parallel_blocks(threads, slot_count, kBlock, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t s = begin; s < end; ++s) slot_root[s] = vertices.find(static_cast<std::uint32_t>(s));
+  });
+  std::vector<std::int32_t> class_id(slot_count, -1);
+  parallel_ordered_append(
+      threads, slot_count, [&](std::size_t s) { return static_cast<std::size_t>(slot_root[s] == s); },
+      [&](std::size_t total) {
+        IMM_ASSERT(total < static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()), "too many vertices");
+        out.vertex_source.resize(total);
+      },
+      [&](std::size_t s, std::size_t id) {
+        class_id[s] = static_cast<std::int32_t>(id);
+        out.vertex_source[id] = input.elements[out.copy_element[s / kArity]][s % kArity];
+      },
+      kBlock);
+  out.copies.resize(copy_count);
+  parallel_blocks(threads, copy_count, kBlock, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c) {
+      const auto& element = input.elements[out.copy_element[c]];
+      for (int k = 0; k < kArity; ++k) {
+        const std::int32_t id = class_id[slot_root[c * kArity + static_cast<std::size_t>(k)]];
+        IMM_ASSERT(out.vertex_source[static_cast<std::size_t>(id)] == element[k],
+                   "merged vertex copies of two different background vertices");
+        out.copies[c][k] = id;
+      }
+    }
+  });
   return out;
 }
 
-template UnglueResult<2> unglue<2>(const UnglueInput<2>&);
-template UnglueResult<3> unglue<3>(const UnglueInput<3>&);
+template UnglueResult<2> unglue<2>(const UnglueInput<2>&, unsigned);
+template UnglueResult<3> unglue<3>(const UnglueInput<3>&, unsigned);
 
 template <int D>
 AtomExpansion<D>::AtomExpansion(const CellComplex<D>& complex, const Immersion& immersion,

@@ -84,13 +84,14 @@ struct UnglueResult {
 /// Duplicates elements per union-find class of atoms and connects the copies.
 /// @pre every fusion joins two atoms of one element; every adjacency joins atoms of two different
 ///      elements and its face vertices belong to both (checked: InvariantError otherwise).
-/// @return copies over compacted vertex ids; elements without atoms have no copy.
+/// @return copies over compacted vertex ids; elements without atoms have no copy. The same for
+///         every `threads` (the unions run concurrently, the numbering is by smallest member).
 /// Paper: §7, §7.1.2; Teran et al. 2005, §6.
 template <int D>
-UnglueResult<D> unglue(const UnglueInput<D>& input);
+UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads = 1);
 
-extern template UnglueResult<2> unglue<2>(const UnglueInput<2>&);
-extern template UnglueResult<3> unglue<3>(const UnglueInput<3>&);
+extern template UnglueResult<2> unglue<2>(const UnglueInput<2>&, unsigned);
+extern template UnglueResult<3> unglue<3>(const UnglueInput<3>&, unsigned);
 
 /// Builds the UnglueInput of one immersion from the local regions the element cutting found
 /// (dim2/virtual_triangles.cpp, dim3/virtual_tets.cpp): every local region lying in a cell c

@@ -116,7 +116,7 @@ void assemble(const Complex& complex, const Immersion& immersion, const TetMesh&
 
   result.stats.seconds_atoms = clock.next();
   // 4. Duplicate and connect.
-  const UnglueResult<3> unglued = unglue<3>(input);
+  const UnglueResult<3> unglued = unglue<3>(input, threads);
   result.stats.seconds_unglue = clock.next();
   const std::vector<char> helper_node = helper_nodes(complex, immersion, input_triangles);
   TetMesh& mesh = result.mesh;

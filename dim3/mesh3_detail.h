@@ -159,8 +159,8 @@ EmittedCopies emit_copies(const UnglueResult<3>& unglued, const std::vector<char
 /// solids dropped, input vertices embedded. Fills result.mesh, background_tet, embedding,
 /// contents (when `record_contents`; `local` must then hold the embedded pieces) and the output
 /// counts of result.stats; an input vertex the background does not cover adds a NotCovered
-/// defect. Atoms, fusions and adjacencies are built on `threads` threads (the result does not
-/// depend on it). @pre `local` was computed on `background`.
+/// defect. Atoms, fusions, adjacencies and the unglued copies are built on `threads` threads (the
+/// result does not depend on it). @pre `local` was computed on `background`.
 void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
               const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
               bool record_contents, MeshResult& result, unsigned threads = 1);
