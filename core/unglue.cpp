@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "core/diagnostics.h"
@@ -24,26 +25,34 @@ int local_index(const std::array<std::int32_t, N>& element, std::int32_t v) {
   return -1;
 }
 
+/// An array of n default-initialised (untouched) values: the scratch arrays below are written
+/// on all threads before they are read, and value-initialising them would be a serial pass.
+template <class T>
+std::unique_ptr<T[]> uninitialized(std::size_t n) {
+  return std::unique_ptr<T[]>(new T[n]);
+}
+
 /// Union-find whose unions may run on several threads at once: a root is only ever linked below a
 /// smaller root (compare-and-swap; a lost race retries from the new roots), so the root of every
 /// class is its smallest member, whatever the order of the unions. The classes and their roots
 /// are therefore the same for every thread count, which the unglue numbering relies on. Finds
-/// halve paths with compare-and-swap too (a parent only ever moves to an ancestor, never above
-/// the class's root). Jayanti & Tarjan 2016 describe why such a structure is linearisable.
+/// halve paths (a parent only ever moves to an ancestor, never above the class's root).
 class MinRootUnionFind {
  public:
-  MinRootUnionFind(std::size_t n, unsigned threads) : parent_(n) {
+  MinRootUnionFind(std::size_t n, unsigned threads) : parent_(uninitialized<std::uint32_t>(n)) {
     parallel_blocks(threads, n, 1 << 16, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t x = begin; x < end; ++x) parent_[x].store(static_cast<std::uint32_t>(x), std::memory_order_relaxed);
+      for (std::size_t x = begin; x < end; ++x) parent_[x] = static_cast<std::uint32_t>(x);
     });
   }
   /// The root (smallest member) of x's class; exact once no union runs concurrently.
   std::uint32_t find(std::uint32_t x) {
     for (;;) {
-      std::uint32_t parent = parent_[x].load(std::memory_order_relaxed);
+      std::uint32_t parent = link(x).load(std::memory_order_relaxed);
       if (parent == x) return x;
-      const std::uint32_t grandparent = parent_[parent].load(std::memory_order_relaxed);
-      if (grandparent != parent) parent_[x].compare_exchange_weak(parent, grandparent, std::memory_order_relaxed);
+      const std::uint32_t grandparent = link(parent).load(std::memory_order_relaxed);
+      // x is no root and never becomes one again, so only other halvings write parent_[x], each
+      // an ancestor of x: a plain store is enough (a lost one only loses compression).
+      if (grandparent != parent) link(x).store(grandparent, std::memory_order_relaxed);
       x = grandparent;
     }
   }
@@ -54,12 +63,13 @@ class MinRootUnionFind {
       if (a == b) return;
       if (a < b) std::swap(a, b);
       std::uint32_t expected = a;  // a is still a root: link it below the smaller root b
-      if (parent_[a].compare_exchange_strong(expected, b, std::memory_order_acq_rel)) return;
+      if (link(a).compare_exchange_strong(expected, b, std::memory_order_acq_rel)) return;
     }
   }
 
  private:
-  std::vector<std::atomic<std::uint32_t>> parent_;
+  std::atomic_ref<std::uint32_t> link(std::uint32_t x) { return std::atomic_ref<std::uint32_t>(parent_[x]); }
+  std::unique_ptr<std::uint32_t[]> parent_;
 };
 
 }  // namespace
@@ -84,7 +94,7 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
       atoms.unite(a, b);
     }
   });
-  std::vector<std::uint32_t> atom_root(atom_count);
+  const std::unique_ptr<std::uint32_t[]> atom_root = uninitialized<std::uint32_t>(atom_count);
   parallel_blocks(threads, atom_count, kBlock, [&](std::size_t begin, std::size_t end) {
     for (std::size_t a = begin; a < end; ++a) {
       IMM_ASSERT(input.atoms[a].element < element_count, "atom element out of range");
@@ -110,7 +120,7 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
   // its class (MinRootUnionFind), so the copies are the roots counted in order. Its node is the
   // smallest among its atoms, all later in the same element's run.
   UnglueResult<D> out;
-  std::vector<std::uint32_t> root_copy(atom_count, kNone);
+  const std::unique_ptr<std::uint32_t[]> root_copy = uninitialized<std::uint32_t>(atom_count);  // set at roots
   parallel_ordered_append(
       threads, atom_count,
       [&](std::size_t i) {
@@ -167,11 +177,11 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
   // 3. Compact numbering, in order of first use by the copies: a class's first use is its
   // smallest vertex copy, its root.
   const std::size_t slot_count = copy_count * kArity;
-  std::vector<std::uint32_t> slot_root(slot_count);
+  const std::unique_ptr<std::uint32_t[]> slot_root = uninitialized<std::uint32_t>(slot_count);
   parallel_blocks(threads, slot_count, kBlock, [&](std::size_t begin, std::size_t end) {
     for (std::size_t s = begin; s < end; ++s) slot_root[s] = vertices.find(static_cast<std::uint32_t>(s));
   });
-  std::vector<std::int32_t> class_id(slot_count, -1);
+  const std::unique_ptr<std::int32_t[]> class_id = uninitialized<std::int32_t>(slot_count);  // set at roots
   parallel_ordered_append(
       threads, slot_count, [&](std::size_t s) { return static_cast<std::size_t>(slot_root[s] == s); },
       [&](std::size_t total) {
