@@ -379,8 +379,12 @@ class VirtualTets {
       for (auto x = static_cast<std::uint32_t>(begin); x < end; ++x) {
         const CGAL::Bbox_3 b = corner(x, 0).bbox() + corner(x, 1).bbox() + corner(x, 2).bbox();
         std::array<std::size_t, 3> from{}, to{};
-        cell_range(CGAL::Bbox_3(b.xmin() - cell, b.ymin() - cell, b.zmin() - cell, b.xmax(), b.ymax(), b.zmax()), from,
-                   to);  // rounded to nearest, as the binning
+        // A narrow tet sits in the cell of its low corner, at most one cell (its width) below the
+        // triangle's box when they overlap. Widened by two cells, not one: the narrow test and
+        // this bound are rounded doubles, and a tet a rounding wider than a cell must still be
+        // found (the exact overlap test below keeps exactly the overlapping pairs either way).
+        cell_range(CGAL::Bbox_3(b.xmin() - 2 * cell, b.ymin() - 2 * cell, b.zmin() - 2 * cell, b.xmax(), b.ymax(), b.zmax()),
+                   from, to);  // rounded to nearest, as the binning
         const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
         // The triangle's plane in intervals: a tet whose four corners are certainly strictly on
         // one side of it cannot meet the triangle (clipping would give an empty polygon), so it
