@@ -11,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/exit_codes.h"
 #include "core/graph_search.h"
+#include "core/parallel.h"
 #include "core/verdicts.h"
 #include "dim2/complex2.h"
 #include "dim2/curves.h"
@@ -290,12 +291,9 @@ std::shared_ptr<const imm::dim2::Complex2> built_curves(const Curves& curves) {
 /// The bounds the program's command line enforces, for the library's options (a resolution of
 /// 0 failed an internal invariant, one of 10^6 an allocation check, and threads = 10^9 allocated
 /// per-thread scratch until the process was killed).
-constexpr unsigned kMaxThreads = 1024;  // as `immerse mesh --threads`
-constexpr int kMaxResolution3 = 150;    // as `immerse mesh --resolution` in 3D
-
 void check_threads(unsigned threads) {
-  if (threads > kMaxThreads)
-    throw Error(ErrorKind::InvalidInput, "threads: at most " + std::to_string(kMaxThreads) + " (0 = all cores), got " +
+  if (threads > imm::kMaxThreads)
+    throw Error(ErrorKind::InvalidInput, "threads: at most " + std::to_string(imm::kMaxThreads) + " (0 = all cores), got " +
                                              std::to_string(threads));
 }
 
@@ -469,7 +467,7 @@ SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& opt
   return guarded([&] {
     const std::string name = found.data_ ? found.data_->name : std::string();
     check_immersion_index(found, options, name);
-    check_resolution(options.resolution, kMaxResolution3);
+    check_resolution(options.resolution, imm::dim3::kMaxGridResolution);
     check_threads(options.threads);
     imm::dim3::MeshOptions o;
     if (options.resolution) o.resolution = *options.resolution;

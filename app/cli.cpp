@@ -34,6 +34,7 @@
 
 #include "core/atomic_file.h"
 #include "app/cli_common.h"
+#include "core/parallel.h"
 #include "app/cli_deform.h"
 #include "core/diagnostics.h"
 #include "core/printable.h"
@@ -227,7 +228,7 @@ std::vector<CommandSpec> make_command_specs() {
       {"--embedding", ValueKind::Text, "OUT.emb", "per input vertex: output element and barycentric weights"},
       {"--svg", ValueKind::Text, "OUT.svg", "(2D) the output mesh pulled apart by sheet"},
       {"--threads", ValueKind::Integer, "N", "(3D) threads for the virtual tets (0 = all cores; the output is the same)",
-       0, 1024},
+       0, kMaxThreads},
       {"--no-helper-boxes", ValueKind::Flag, "",
        "(3D) do not cut self-connecting cells (helper-box tets are otherwise dropped)"},
       {"--json", ValueKind::Text, "OUT",

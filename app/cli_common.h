@@ -80,14 +80,11 @@ struct SearchRequest {
   bool classic_search = false;  ///< --classic-search: SearchOptions::sheets_first, continue_sheets off
 };
 
-/// Largest 3D grid resolution: 6 x 152^3 tets is about 21 million.
-inline constexpr int kMaxResolution3 = 150;
-
 /// Empty when `resolution` is a usable 3D grid resolution, else the usage message (the commands
 /// that mesh a surface on a generated grid: mesh, deform, weights).
 inline std::string check_resolution3(int resolution) {
-  if (resolution <= kMaxResolution3) return {};
-  return "--resolution " + std::to_string(resolution) + ": at most " + std::to_string(kMaxResolution3) +
+  if (resolution <= dim3::kMaxGridResolution) return {};
+  return "--resolution " + std::to_string(resolution) + ": at most " + std::to_string(dim3::kMaxGridResolution) +
          " grid cubes along the longest side in 3D";
 }
 

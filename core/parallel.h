@@ -15,6 +15,10 @@
 
 namespace imm {
 
+/// Most threads a caller may ask for (0 = all cores): the program's --threads and the C++ API's
+/// `threads` refuse more, since per-thread scratch is allocated up front.
+inline constexpr unsigned kMaxThreads = 1024;
+
 /// CPU seconds the calling thread has used so far (POSIX CLOCK_THREAD_CPUTIME_ID): for
 /// attributing work done on several threads, which wall time cannot when threads share cores.
 inline double thread_cpu_seconds() {

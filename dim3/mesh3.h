@@ -20,6 +20,10 @@
 
 namespace imm::dim3 {
 
+/// Largest generated grid resolution (cubes along the longest side of the input's box): 6 x 152^3
+/// tets is about 21 million. The program (`mesh --resolution`) and the C++ API refuse larger ones.
+inline constexpr int kMaxGridResolution = 150;
+
 struct MeshOptions {
   /// Cubes of the generated background grid along the longest side of the input's box.
   int resolution = 16;
