@@ -11,6 +11,7 @@
 
 #include "deform/fem.h"
 #include "deform/simplex_mesh.h"
+#include "deform/vtu.h"
 #include "dim3/surface.h"
 #include "dim3/surface_genericity.h"
 #include "dim3/tet_mesh.h"
@@ -188,12 +189,14 @@ inline void input_picture(const FigureArgs& args, const std::string& file, const
   }
 }
 
-/// Pictures of one deformed mesh: the deformed input surface (input_picture) and the deformed
-/// tet mesh (by graph node when `reference` is given, else one colour).
-inline void deformed_pictures(const FigureArgs& args, const std::string& stem, const std::string& what,
+/// The outputs of one deformed mesh: `<stem>.vtu` (the deformed tets, for ParaView) and the
+/// pictures of the deformed input surface (input_picture) and of the deformed tet mesh (by graph
+/// node when `reference` is given, else one colour).
+inline void deformed_outputs(const FigureArgs& args, const std::string& stem, const std::string& what,
                               const dim3::Surface& deformed_input, const Crossings& crossing,
                               const deform::SimplexMesh<3>& mesh, const Eigen::MatrixXd& positions,
                               const std::vector<int>& reference, const render::View& view) {
+  write(args, stem + ".vtu", deform::format_vtu(positions, mesh.elements));
   input_picture(args, stem + "_input.png", what + ": the deformed input", deformed_input, crossing, view, "deformed input");
   render::TetStyle style;
   style.color_by = reference.empty() ? render::TetStyle::ColorBy::Single : render::TetStyle::ColorBy::Reference;

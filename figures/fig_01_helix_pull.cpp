@@ -8,7 +8,6 @@
 // the deformed tet mesh by graph node or, glued, in one colour), and a Markdown summary.
 #include "deform/arap.h"
 #include "deform/convert.h"
-#include "deform/vtu.h"
 #include "dim3/generators3.h"
 #include "dim3/self_connecting.h"
 #include "figures/deform_common.h"
@@ -109,8 +108,6 @@ int main(int argc, char** argv) {
     figures::write(args, "fig01_helix_input.obj", dim3::format_obj(helix));
     figures::write(args, "fig01_unglued_pulled.obj", dim3::format_obj(unglued.surface));
     figures::write(args, "fig01_glued_pulled.obj", dim3::format_obj(glued.surface));
-    figures::write(args, "fig01_unglued_pulled.vtu", deform::format_vtu(unglued.positions, in.unglued.elements));
-    figures::write(args, "fig01_glued_pulled.vtu", deform::format_vtu(glued.positions, in.glued.mesh.elements));
     std::ostringstream md;
     md << "# Fig. 1: the helix pulled apart\n\n"
        << "- input: helix with " << loops << " loops, " << helix.triangle_count() << " triangles, " << before
@@ -124,9 +121,9 @@ int main(int argc, char** argv) {
        << "| glued | " << glued.self_intersections << " | " << glued.inverted << " | " << glued.iterations << " |\n";
     figures::write(args, "fig01.md", md.str());
     const render::View view{30, 8, 2};
-    figures::deformed_pictures(args, "fig01_unglued_pulled", "unglued, pulled", unglued.surface, unglued.crossing,
+    figures::deformed_outputs(args, "fig01_unglued_pulled", "unglued, pulled", unglued.surface, unglued.crossing,
                                in.unglued, unglued.positions, mesh.mesh.reference, view);
-    figures::deformed_pictures(args, "fig01_glued_pulled", "glued baseline, pulled", glued.surface, glued.crossing,
+    figures::deformed_outputs(args, "fig01_glued_pulled", "glued baseline, pulled", glued.surface, glued.crossing,
                                in.glued.mesh, glued.positions, {}, view);
     std::cout << md.str();
   });

@@ -12,7 +12,6 @@
 // Pictures: the input (intersecting triangles red), the deformed inputs and deformed meshes.
 #include "deform/convert.h"
 #include "deform/fem.h"
-#include "deform/vtu.h"
 #include "dim3/generators3.h"
 #include "dim3/self_connecting.h"
 #include "figures/deform_common.h"
@@ -147,13 +146,11 @@ int main(int argc, char** argv) {
     figures::write(args, "fig02_head_input.obj", dim3::format_obj(input));
     figures::write(args, "fig02_unglued_opened.obj", dim3::format_obj(unglued.surface));
     figures::write(args, "fig02_glued_opened.obj", dim3::format_obj(glued.surface));
-    figures::write(args, "fig02_unglued_opened.vtu", deform::format_vtu(unglued.positions, in.unglued.elements));
-    figures::write(args, "fig02_glued_opened.vtu", deform::format_vtu(glued.positions, in.glued.mesh.elements));
     const render::View view{-90, 10, 2};  // from the side (looking along +y), the face to the right
     figures::input_picture(args, "fig02_head_input.png", "the head: the lip pierces the chin", input, before, view);
-    figures::deformed_pictures(args, "fig02_unglued_opened", "unglued, mouth opened by FEM", unglued.surface,
+    figures::deformed_outputs(args, "fig02_unglued_opened", "unglued, mouth opened by FEM", unglued.surface,
                                unglued.crossing, in.unglued, unglued.positions, mesh.mesh.reference, view);
-    figures::deformed_pictures(args, "fig02_glued_opened", "glued baseline, same simulation", glued.surface,
+    figures::deformed_outputs(args, "fig02_glued_opened", "glued baseline, same simulation", glued.surface,
                                glued.crossing, in.glued.mesh, glued.positions, {}, view);
 
     std::ostringstream md;

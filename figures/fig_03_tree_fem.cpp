@@ -15,7 +15,6 @@
 // not available here, and neither is its "better tree motion" comparison.
 // Pictures: the input (intersecting triangles red), the deformed inputs and deformed meshes.
 #include "deform/convert.h"
-#include "deform/vtu.h"
 #include "dim3/generators3.h"
 #include "dim3/self_connecting.h"
 #include "figures/deform_common.h"
@@ -93,13 +92,11 @@ int main(int argc, char** argv) {
     figures::write(args, "fig03_tree_input.obj", dim3::format_obj(input));
     figures::write(args, "fig03_unglued_swayed.obj", dim3::format_obj(unglued.surface));
     figures::write(args, "fig03_glued_swayed.obj", dim3::format_obj(glued.surface));
-    figures::write(args, "fig03_unglued_swayed.vtu", deform::format_vtu(unglued.positions, in.unglued.elements));
-    figures::write(args, "fig03_glued_swayed.vtu", deform::format_vtu(glued.positions, in.glued.mesh.elements));
     const render::View view{-70, 12, 2};
     figures::input_picture(args, "fig03_tree_input.png", "the procedural tree", input, before, view);
-    figures::deformed_pictures(args, "fig03_unglued_swayed", "unglued, trunk held, gravity and wind", unglued.surface,
+    figures::deformed_outputs(args, "fig03_unglued_swayed", "unglued, trunk held, gravity and wind", unglued.surface,
                                unglued.crossing, in.unglued, unglued.positions, mesh.mesh.reference, view);
-    figures::deformed_pictures(args, "fig03_glued_swayed", "glued baseline, same simulation", glued.surface,
+    figures::deformed_outputs(args, "fig03_glued_swayed", "glued baseline, same simulation", glued.surface,
                                glued.crossing, in.glued.mesh, glued.positions, {}, view);
 
     std::ostringstream md;

@@ -9,7 +9,6 @@
 // overlapping strands share their tets. Pictures of both, side by side.
 #include "deform/arap.h"
 #include "deform/convert.h"
-#include "deform/vtu.h"
 #include "dim3/generators3.h"
 #include "dim3/self_connecting.h"
 #include "figures/deform_common.h"
@@ -132,12 +131,10 @@ int main(int argc, char** argv) {
 
     figures::write(args, "fig17_unglued_pulled.obj", dim3::format_obj(unglued.surface));
     figures::write(args, "fig17_glued_pulled.obj", dim3::format_obj(glued.surface));
-    figures::write(args, "fig17_unglued_pulled.vtu", deform::format_vtu(unglued.positions, in.unglued.elements));
-    figures::write(args, "fig17_glued_pulled.vtu", deform::format_vtu(glued.positions, in.glued.mesh.elements));
     const render::View view{30, 30, 2};
-    figures::deformed_pictures(args, "fig17_unglued_pulled", "unglued, strands pulled apart", unglued.surface,
+    figures::deformed_outputs(args, "fig17_unglued_pulled", "unglued, strands pulled apart", unglued.surface,
                                unglued.crossing, in.unglued, unglued.positions, mesh.mesh.reference, view);
-    figures::deformed_pictures(args, "fig17_glued_pulled", "glued baseline, same pull", glued.surface, glued.crossing,
+    figures::deformed_outputs(args, "fig17_glued_pulled", "glued baseline, same pull", glued.surface, glued.crossing,
                                in.glued.mesh, glued.positions, {}, view);
     std::ostringstream md;
     md << "# Fig. 17: the double-loop torus pulled apart\n\n"

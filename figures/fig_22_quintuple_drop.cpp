@@ -14,7 +14,6 @@
 // tets to be measured and fast (issue 14's target: 1 s).
 // Pictures: the input (collided faces red), the deformed inputs and deformed meshes.
 #include "deform/convert.h"
-#include "deform/vtu.h"
 #include "dim3/generators3.h"
 #include "dim3/self_connecting.h"
 #include "figures/deform_common.h"
@@ -100,13 +99,11 @@ int main(int argc, char** argv) {
     figures::write(args, "fig22_quintuple_input.obj", dim3::format_obj(input));
     figures::write(args, "fig22_unglued_dropped.obj", dim3::format_obj(unglued.surface));
     figures::write(args, "fig22_glued_dropped.obj", dim3::format_obj(glued.surface));
-    figures::write(args, "fig22_unglued_dropped.vtu", deform::format_vtu(unglued.positions, in.unglued.elements));
-    figures::write(args, "fig22_glued_dropped.vtu", deform::format_vtu(glued.positions, in.glued.mesh.elements));
     const render::View view{30, 18, 2};
     figures::input_picture(args, "fig22_quintuple_input.png", "the quintuple torus, collided faces red", input, before, view);
-    figures::deformed_pictures(args, "fig22_unglued_dropped", "unglued, tori held, dropped under gravity",
+    figures::deformed_outputs(args, "fig22_unglued_dropped", "unglued, tori held, dropped under gravity",
                                unglued.surface, unglued.crossing, in.unglued, unglued.positions, mesh.mesh.reference, view);
-    figures::deformed_pictures(args, "fig22_glued_dropped", "glued baseline, same simulation", glued.surface,
+    figures::deformed_outputs(args, "fig22_glued_dropped", "glued baseline, same simulation", glued.surface,
                                glued.crossing, in.glued.mesh, glued.positions, {}, view);
 
     std::ostringstream md;
