@@ -108,6 +108,15 @@ inline std::string parse_conforming3(const CommandLine& cl, dim3::ConformingOpti
   return {};
 }
 
+/// `options`' edge length defaulted, when not given, to the grid's cube side for `surface`
+/// (dim3::conforming_edge_length at `resolution`): mesh, deform and weights alike.
+/// @return a usage error when the input's box gives no usable length, else empty.
+inline std::string default_edge_length(const dim3::Surface& surface, int resolution, dim3::ConformingOptions& options) {
+  if (options.edge_length == 0.0) options.edge_length = dim3::conforming_edge_length(surface, resolution);
+  if (options.edge_length > 0 && std::isfinite(options.edge_length)) return {};
+  return "--conforming: the input's box is flat or not finite; pass --edge-length";
+}
+
 // ---- how mesh, deform and weights mesh their input ---------------------------------------------
 
 /// The mesher options `mesh`, `deform` and `weights` share: a generated grid (uniform, or graded

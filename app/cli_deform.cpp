@@ -420,10 +420,8 @@ int command_deform_or_weights(Session& s, const CommandLine& cl, const std::stri
     std::vector<int> reference;
     if (choice.conforming) {
       dim3::ConformingOptions conforming_options = choice.conforming3;
-      if (conforming_options.edge_length == 0.0)
-        conforming_options.edge_length = dim3::conforming_edge_length(read.surface, options.resolution);
-      if (!(conforming_options.edge_length > 0 && std::isfinite(conforming_options.edge_length)))
-        return usage_error(s.env(), command, "--conforming: the input's box is flat or not finite; pass --edge-length");
+      if (const std::string error = default_edge_length(read.surface, options.resolution, conforming_options); !error.empty())
+        return usage_error(s.env(), command, error);
       const dim3::ConformingResult m = s.timed("mesh", [&] {
         return dim3::mesh_conforming(*im.build.complex, im.search.immersions[k], conforming_options, im.input_vertices,
                                       im.input_triangles);

@@ -664,10 +664,8 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   if (conforming) {
     conforming_options = *conforming;
     conforming_options.progress = mesh_options.progress;
-    if (conforming_options.edge_length == 0.0)
-      conforming_options.edge_length = dim3::conforming_edge_length(p.surface, options.resolution);
-    if (!(conforming_options.edge_length > 0 && std::isfinite(conforming_options.edge_length)))
-      return usage_error(s.env(), "mesh", "--conforming: the input's box is flat or not finite; pass --edge-length");
+    if (const std::string error = default_edge_length(p.surface, options.resolution, conforming_options); !error.empty())
+      return usage_error(s.env(), "mesh", error);
     conforming = &conforming_options;
     o["conforming"] = true;
     o["edge_length"] = conforming->edge_length;
