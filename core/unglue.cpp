@@ -56,6 +56,8 @@ class MinRootUnionFind {
       x = grandparent;
     }
   }
+  /// Frees the parents (the classes are no longer needed; nothing may be called after).
+  void release() { parent_.reset(); }
   void unite(std::uint32_t a, std::uint32_t b) {
     for (;;) {
       a = find(a);
@@ -94,13 +96,14 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
       atoms.unite(a, b);
     }
   });
-  const std::unique_ptr<std::uint32_t[]> atom_root = uninitialized<std::uint32_t>(atom_count);
+  std::unique_ptr<std::uint32_t[]> atom_root = uninitialized<std::uint32_t>(atom_count);
   parallel_blocks(threads, atom_count, kBlock, [&](std::size_t begin, std::size_t end) {
     for (std::size_t a = begin; a < end; ++a) {
       IMM_ASSERT(input.atoms[a].element < element_count, "atom element out of range");
       atom_root[a] = atoms.find(static_cast<std::uint32_t>(a));
     }
   });
+  atoms.release();
 
   // Atoms in (element, index) order: a counting sort keeps the output deterministic and linear.
   // The meshers list atoms element by element already: then the order is the identity.
@@ -120,7 +123,7 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
   // its class (MinRootUnionFind), so the copies are the roots counted in order. Its node is the
   // smallest among its atoms, all later in the same element's run.
   UnglueResult<D> out;
-  const std::unique_ptr<std::uint32_t[]> root_copy = uninitialized<std::uint32_t>(atom_count);  // set at roots
+  std::unique_ptr<std::uint32_t[]> root_copy = uninitialized<std::uint32_t>(atom_count);  // set at roots
   parallel_ordered_append(
       threads, atom_count,
       [&](std::size_t i) {
@@ -149,6 +152,10 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
   parallel_blocks(threads, atom_count, kBlock, [&](std::size_t begin, std::size_t end) {
     for (std::size_t a = begin; a < end; ++a) out.atom_copy[a] = root_copy[atom_root[a]];
   });
+  // The atom-level scratch is done with: released before the vertex copies allocate (the peak
+  // memory of meshing lies in this function, BENCHMARKS.md issue 17).
+  atom_root.reset();
+  root_copy.reset();
   const std::size_t copy_count = out.copy_element.size();
   IMM_ASSERT(copy_count * kArity < kNone, "too many element copies");
 
@@ -181,6 +188,7 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
   parallel_blocks(threads, slot_count, kBlock, [&](std::size_t begin, std::size_t end) {
     for (std::size_t s = begin; s < end; ++s) slot_root[s] = vertices.find(static_cast<std::uint32_t>(s));
   });
+  vertices.release();
   const std::unique_ptr<std::int32_t[]> class_id = uninitialized<std::int32_t>(slot_count);  // set at roots
   parallel_ordered_append(
       threads, slot_count, [&](std::size_t s) { return static_cast<std::size_t>(slot_root[s] == s); },

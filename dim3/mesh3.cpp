@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "core/parallel.h"
 #include "core/unglue.h"
@@ -64,8 +65,51 @@ std::vector<char> helper_nodes(const Complex& complex, const Immersion& immersio
 
 EmittedCopies emit_copies(const UnglueResult<3>& unglued, const std::vector<char>& helper_node,
                           const NodeLayout& layout, std::size_t cell_count, const std::vector<Point3>& vertices,
-                          TetMesh& mesh, std::size_t& helper_tets, std::vector<std::size_t>& copies_per_cell) {
+                          TetMesh& mesh, std::size_t& helper_tets, std::vector<std::size_t>& copies_per_cell,
+                          unsigned threads) {
   EmittedCopies out;
+  const std::size_t copy_count = unglued.copies.size();
+  std::size_t dropped = 0;
+  for (std::size_t c = 0; c < copy_count; ++c) dropped += helper_node[unglued.copy_node[c].index()] ? 1 : 0;
+  if (dropped == 0) {
+    // Every copy is kept (no helper solid): the loop below would number the vertices in order of
+    // first use over all copies, which is unglue's own numbering (each class is numbered at its
+    // smallest vertex copy, core/unglue.cpp), so every array is a copy of unglue's, made on all
+    // threads (this stage was serial, BENCHMARKS.md issue 17).
+    const std::size_t tet_base = mesh.tets.size(), vertex_base = mesh.vertices.size();
+    const std::size_t vertex_count = unglued.vertex_source.size();
+    IMM_ASSERT(tet_base + copy_count < kNone && vertex_base + vertex_count < static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()),
+               "too many output tets or vertices");
+    out.copy_index.resize(copy_count);
+    out.source_element.resize(copy_count);
+    out.vertex_source.resize(vertex_count);
+    mesh.tets.resize(tet_base + copy_count);
+    mesh.reference.resize(tet_base + copy_count);
+    mesh.vertices.resize(vertex_base + vertex_count);
+    const unsigned workers = std::max(1u, threads);
+    std::vector<std::vector<std::size_t>> per_cell(workers, std::vector<std::size_t>(cell_count, 0));
+    constexpr std::size_t kBlock = 1 << 14;
+    parallel_for(workers, (copy_count + kBlock - 1) / kBlock, [&](std::size_t b, unsigned worker) {
+      for (std::size_t c = b * kBlock; c < std::min(copy_count, (b + 1) * kBlock); ++c) {
+        out.copy_index[c] = static_cast<std::uint32_t>(tet_base + c);
+        Tet& tet = mesh.tets[tet_base + c];
+        for (int k = 0; k < 4; ++k) tet[k] = static_cast<int>(vertex_base) + unglued.copies[c][k];
+        mesh.reference[tet_base + c] = unglued.copy_node[c].value();
+        out.source_element[c] = static_cast<int>(unglued.copy_element[c]);
+        ++per_cell[worker][layout.cell(unglued.copy_node[c]).index()];
+      }
+    }, 1);
+    parallel_blocks(workers, vertex_count, kBlock, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t v = begin; v < end; ++v) {
+        out.vertex_source[v] = unglued.vertex_source[v];
+        mesh.vertices[vertex_base + v] = vertices[static_cast<std::size_t>(unglued.vertex_source[v])];
+      }
+    });
+    copies_per_cell.assign(cell_count, 0);
+    for (const std::vector<std::size_t>& counts : per_cell)
+      for (std::size_t cell = 0; cell < cell_count; ++cell) copies_per_cell[cell] += counts[cell];
+    return out;
+  }
   out.copy_index.assign(unglued.copies.size(), kNone);
   std::vector<std::int32_t> vertex_index(unglued.vertex_source.size(), -1);
   copies_per_cell.assign(cell_count, 0);
@@ -93,9 +137,13 @@ EmittedCopies emit_copies(const UnglueResult<3>& unglued, const std::vector<char
   return out;
 }
 
-void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
-              const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
-              bool record_contents, MeshResult& result, unsigned threads) {
+namespace {
+
+/// assemble(), releasing `*release` (local's adjacencies, or null to keep them) once glued.
+void assemble_releasing(const Complex& complex, const Immersion& immersion, const TetMesh& background,
+                        const LocalRegions& local, std::vector<LocalRegions::Adjacency>* release,
+                        std::size_t input_vertices, std::size_t input_triangles, bool record_contents,
+                        MeshResult& result, unsigned threads) {
   const CellComplex<3>& cc = complex.complex;
   const NodeLayout& layout = immersion.layout;
   StageClock clock;
@@ -111,6 +159,7 @@ void assemble(const Complex& complex, const Immersion& immersion, const TetMesh&
   });
   AtomExpansion<3> expansion(cc, immersion, local.first, local.region, std::move(elements), threads);
   local.glue(expansion, threads);
+  if (release != nullptr) std::vector<LocalRegions::Adjacency>().swap(*release);
   const UnglueInput<3>& input = expansion.input();
   const auto atom_of = [&](std::uint32_t lr, NodeId node) { return expansion.atom(lr, node); };
 
@@ -121,7 +170,7 @@ void assemble(const Complex& complex, const Immersion& immersion, const TetMesh&
   const std::vector<char> helper_node = helper_nodes(complex, immersion, input_triangles);
   TetMesh& mesh = result.mesh;
   EmittedCopies emitted = emit_copies(unglued, helper_node, layout, cc.cell_count(), background.vertices, mesh,
-                                      result.stats.helper_tets, result.stats.copies_per_cell);
+                                      result.stats.helper_tets, result.stats.copies_per_cell, threads);
   const std::vector<std::uint32_t>& copy_index = emitted.copy_index;
   result.background_tet = std::move(emitted.source_element);
   result.stats.output_tets = mesh.tets.size();
@@ -181,6 +230,22 @@ void assemble(const Complex& complex, const Immersion& immersion, const TetMesh&
       s.erase(std::unique(s.begin(), s.end()), s.end());
     }
   }
+}
+
+}  // namespace
+
+void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
+              const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
+              bool record_contents, MeshResult& result, unsigned threads) {
+  assemble_releasing(complex, immersion, background, local, nullptr, input_vertices, input_triangles,
+                     record_contents, result, threads);
+}
+
+void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
+              LocalRegions&& local, std::size_t input_vertices, std::size_t input_triangles,
+              bool record_contents, MeshResult& result, unsigned threads) {
+  assemble_releasing(complex, immersion, background, local, &local.adjacencies, input_vertices,
+                     input_triangles, record_contents, result, threads);
 }
 
 }  // namespace detail
@@ -278,7 +343,7 @@ MeshResult mesh_immersion(const Complex& complex, const Immersion& immersion, co
 
   // 3.-5. Atoms, duplicate and connect, embedding.
   start = std::chrono::steady_clock::now();
-  detail::assemble(complex, immersion, result.background, local, input_vertices, input_triangles,
+  detail::assemble(complex, immersion, result.background, std::move(local), input_vertices, input_triangles,
                    options.record_contents, result, resolve_threads(options.threads));
   result.stats.seconds_assembly = seconds_since(start);
   // DESIGN §4.6: the .emb weights reproduce every vertex within 1e-9 of the diagonal. Measured

@@ -149,10 +149,12 @@ struct EmittedCopies {
 /// Appends to `mesh` one tet per copy of `unglued` (reference = graph node), with vertices taken
 /// from `vertices` (the element mesh's) in order of first use; copies of helper nodes
 /// (helper_nodes) are dropped and counted in `helper_tets`; `copies_per_cell` (by CellId) counts
-/// the output tets. Shared by assemble and the conforming mesher.
+/// the output tets. Shared by assemble and the conforming mesher. On `threads` threads when no
+/// copy is dropped (the same arrays for every count).
 EmittedCopies emit_copies(const UnglueResult<3>& unglued, const std::vector<char>& helper_node,
                           const NodeLayout& layout, std::size_t cell_count, const std::vector<Point3>& vertices,
-                          TetMesh& mesh, std::size_t& helper_tets, std::vector<std::size_t>& copies_per_cell);
+                          TetMesh& mesh, std::size_t& helper_tets, std::vector<std::size_t>& copies_per_cell,
+                          unsigned threads = 1);
 
 /// The assembly stage of meshing (dim3/mesh3.cpp): one atom per graph node per local region,
 /// fused across the immersion graph's edges, duplicated and connected by unglue<3>, helper-box
@@ -163,6 +165,12 @@ EmittedCopies emit_copies(const UnglueResult<3>& unglued, const std::vector<char
 /// result does not depend on it). @pre `local` was computed on `background`.
 void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
               const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
+              bool record_contents, MeshResult& result, unsigned threads = 1);
+/// The same for a caller done with `local` (mesh_immersion): its adjacencies, the largest array
+/// of the meshing (24 bytes per background face), are released once glued, before the unglue
+/// allocates, which lowers the peak memory by as much (BENCHMARKS.md, issue 17).
+void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
+              LocalRegions&& local, std::size_t input_vertices, std::size_t input_triangles,
               bool record_contents, MeshResult& result, unsigned threads = 1);
 
 }  // namespace imm::dim3::detail

@@ -27,6 +27,7 @@
 
 #include "core/medit.h"
 #include "core/union_find.h"
+#include "dim3/background_limits.h"
 #include "dim3/tet_mesh.h"
 #include "dim3/text_io.h"
 
@@ -145,6 +146,12 @@ bool read_vertex_section(std::string_view text, Tokens& tokens, const std::strin
 bool read_tet_records(std::string_view text, Tokens& tokens, const std::string& file, long long m,
                       std::uint64_t header_line, long long corners, long long attributes,
                       const char* record, RawMesh& raw, Defects& defects) {
+  if (static_cast<unsigned long long>(m) > kMaxBackgroundTets) {
+    defects.add(DefectKind::Unreadable, at(file, header_line) + "the header announces " + std::to_string(m) +
+                                            " tets, more than the " + std::to_string(kMaxBackgroundTets) +
+                                            " a background mesh may have");
+    return false;
+  }
   reserve_records(raw.tets, m, text, 10);
   for (long long e = 0; e < m; ++e) {
     const auto index_token = tokens.next();
@@ -629,6 +636,12 @@ void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
                 at(raw.vertex_file, raw.vertex_line[v]) + "vertex " + std::to_string(v) +
                     " has a non-finite coordinate " + format_point(p) + base_note,
                 {}, {static_cast<long>(v)}, {coordinates(p)});
+  }
+  if (raw.tets.size() > kMaxBackgroundTets) {  // Medit and Gmsh, whose counts are not checked at a header
+    defects.add(DefectKind::Unreadable, raw.tet_file + " has " + std::to_string(raw.tets.size()) +
+                                            " tets, more than the " + std::to_string(kMaxBackgroundTets) +
+                                            " a background mesh may have");
+    return;
   }
   mesh.tets.reserve(raw.tets.size());
   mesh.reference.reserve(raw.tets.size());

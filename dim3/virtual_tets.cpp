@@ -51,6 +51,7 @@
 #include <limits>
 #include <exception>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <thread>
@@ -60,6 +61,7 @@
 #include "core/parallel.h"
 #include "core/union_find.h"
 #include "core/unglue.h"
+#include "dim3/background_limits.h"
 #include "dim3/cut_mesh.h"
 #include "dim3/mesh3_detail.h"
 
@@ -79,6 +81,26 @@ constexpr int kFace[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
 
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
   return (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+}
+
+/// a[k] += a[k - 1] for k = 1 .. size-1 in order (an inclusive prefix sum, exact on integers), on
+/// `threads` threads: block sums, a sum over the blocks, then every block adds up from its offset.
+/// The same values as the serial loop, which over millions of tets was a serial pass.
+template <class T>
+void prefix_sum(unsigned threads, std::vector<T>& a) {
+  constexpr std::size_t kBlock = 1 << 16;
+  const std::size_t blocks = (a.size() + kBlock - 1) / kBlock;
+  std::vector<T> offset(blocks + 1, 0);
+  parallel_for(threads, blocks, [&](std::size_t b, unsigned) {
+    T sum = 0;
+    for (std::size_t k = b * kBlock; k < std::min(a.size(), (b + 1) * kBlock); ++k) sum += a[k];
+    offset[b + 1] = sum;
+  }, /*grain=*/1);
+  for (std::size_t b = 0; b < blocks; ++b) offset[b + 1] += offset[b];
+  parallel_for(threads, blocks, [&](std::size_t b, unsigned) {
+    T sum = offset[b];
+    for (std::size_t k = b * kBlock; k < std::min(a.size(), (b + 1) * kBlock); ++k) a[k] = sum += a[k];
+  }, /*grain=*/1);
 }
 
 /// A vertex of a clipped polygon.
@@ -160,12 +182,17 @@ class VirtualTets {
     out_.seconds_candidates = clock.next();
     out_.vertices.resize(c_.surface.vertex_count());
     triangle_has_polygon_.assign(m_.triangles.size(), 0);
-    face_region_.assign(4 * bg_.tets.size(), kNone);
+    // Written for the four faces of every tet with candidates (merge_block), read only for tets
+    // with two local regions or more, which are among those: the rest is never touched, so it
+    // is left uninitialised (no serial pass, and its pages are never mapped).
+    face_region_.reset(new std::uint32_t[4 * bg_.tets.size()]);
     // Only tets with candidate triangles are processed; the others (most of a fine background)
     // have one local region and are appended in bulk between them, without a TetOut.
     std::vector<std::uint32_t> candidate_tets;
-    for (std::uint32_t t = 0; t < bg_.tets.size(); ++t)
-      if (cand_first_[t] != cand_first_[t + 1]) candidate_tets.push_back(t);
+    parallel_ordered_append(
+        threads_, bg_.tets.size(), [&](std::size_t t) { return std::size_t{cand_first_[t] != cand_first_[t + 1]}; },
+        [&](std::size_t total) { candidate_tets.resize(total); },
+        [&](std::size_t t, std::size_t at) { candidate_tets[at] = static_cast<std::uint32_t>(t); }, 1 << 16);
     out_.first.reserve(bg_.tets.size() + 1);
     out_.region.reserve(bg_.tets.size() + 2 * candidate_tets.size());
     out_.element.reserve(bg_.tets.size() + 2 * candidate_tets.size());
@@ -205,15 +232,22 @@ class VirtualTets {
           block[i].error = std::current_exception();  // rethrown by merge, so the first tet's wins
         }
       }, /*grain=*/16);
-      for (std::size_t i = 0; i < count; ++i) {
-        const std::uint32_t t = candidate_tets[first + i];
-        append_uncut(next_tet, t);
-        merge(t, block[i]);
-        next_tet = t + 1;
-        if (non_generic_) return std::move(out_);
+      // The first tet of the block that stops the run (a non-generic contact, or an error, which
+      // is rethrown): the tets before it are merged, as one by one in tet order.
+      std::size_t stop = 0;
+      while (stop < count && !block[stop].defect && !block[stop].error) ++stop;
+      merge_block(candidate_tets.data() + first, block, stop, next_tet);
+      if (stop < count) {
+        TetOut& o = block[stop];
+        if (!o.defect) std::rethrow_exception(o.error);
+        non_generic_ = true;
+        report_.add(std::move(*o.defect));
+        return std::move(out_);
       }
     }
     append_uncut(next_tet, static_cast<std::uint32_t>(bg_.tets.size()));
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>().swap(candidates_);  // not held through the faces
+    std::vector<std::uint32_t>().swap(cand_first_);
     out_.finish();
     out_.exact_tets = exact_tets;
     for (double s : exact_seconds) out_.seconds_exact += s;
@@ -254,12 +288,15 @@ class VirtualTets {
   void append_uncut(std::uint32_t from, std::uint32_t to) {
     if (from >= to) return;
     const std::size_t n = to - from, base = out_.region.size(), first = out_.first.size();
+    IMM_ASSERT(base + n < kNone, "too many local regions");
     out_.first.resize(first + n);
     out_.element.resize(base + n);
-    for (std::size_t k = 0; k < n; ++k) {
-      out_.first[first + k] = static_cast<std::uint32_t>(base + k);
-      out_.element[base + k] = static_cast<std::uint32_t>(from + k);
-    }
+    parallel_blocks(threads_, n, 1 << 16, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        out_.first[first + k] = static_cast<std::uint32_t>(base + k);
+        out_.element[base + k] = static_cast<std::uint32_t>(from + k);
+      }
+    });
     out_.region.resize(base + n);  // unknown: resolve_regions
     trace_first_.resize(trace_first_.size() + n, static_cast<std::uint32_t>(traces_.size()));
   }
@@ -343,32 +380,36 @@ class VirtualTets {
                              : kNone;
       }
     }, /*grain=*/1);
+    // A counting sort on all threads with atomic counters: the order of the tets inside a cell
+    // varies with the threads, but only the set of pairs found matters (sorted per tet below).
     std::vector<std::uint32_t> cell_first(cells + 1, 0), cell_tets;
     for (int pass = 0; pass < 2; ++pass) {
       std::vector<std::uint32_t> next;
       if (pass == 1) {
-        for (std::size_t c = 0; c < cells; ++c) cell_first[c + 1] += cell_first[c];
+        prefix_sum(threads_, cell_first);
         cell_tets.resize(cell_first[cells]);
         next.assign(cell_first.begin(), cell_first.end() - 1);
       }
       const auto put = [&](std::size_t c, std::uint32_t t) {
         if (pass == 0) {
-          ++cell_first[c + 1];
+          std::atomic_ref<std::uint32_t>(cell_first[c + 1]).fetch_add(1, std::memory_order_relaxed);
         } else {
-          cell_tets[next[c]++] = t;
+          cell_tets[std::atomic_ref<std::uint32_t>(next[c]).fetch_add(1, std::memory_order_relaxed)] = t;
         }
       };
-      for (std::uint32_t t = 0; t < tet_count; ++t) {
-        if (tet_cell[t] != kNone) {
-          put(tet_cell[t], t);
-          continue;
+      parallel_for(threads_, tet_slices, [&](std::size_t slice, unsigned) {
+        for (auto t = static_cast<std::uint32_t>(tet_count * slice / tet_slices); t < tet_count * (slice + 1) / tet_slices; ++t) {
+          if (tet_cell[t] != kNone) {
+            put(tet_cell[t], t);
+            continue;
+          }
+          std::array<std::size_t, 3> from{}, to{};
+          cell_range(tet_box(t), from, to);
+          for (std::size_t i = from[0]; i <= to[0]; ++i)
+            for (std::size_t j = from[1]; j <= to[1]; ++j)
+              for (std::size_t k = from[2]; k <= to[2]; ++k) put(cell_id(i, j, k), t);
         }
-        std::array<std::size_t, 3> from{}, to{};
-        cell_range(tet_box(t), from, to);
-        for (std::size_t i = from[0]; i <= to[0]; ++i)
-          for (std::size_t j = from[1]; j <= to[1]; ++j)
-            for (std::size_t k = from[2]; k <= to[2]; ++k) put(cell_id(i, j, k), t);
-      }
+      }, /*grain=*/1);
     }
     std::vector<std::uint32_t>().swap(tet_cell);
     const std::size_t slices = std::min<std::size_t>(threads_, 1 + m_.triangles.size() / 4096);
@@ -413,27 +454,47 @@ class VirtualTets {
             }
       }
     }, /*grain=*/1);
-    // Sorted by (tet, triangle): a counting sort by tet, then each tet's few triangles.
+    // Sorted by (tet, triangle): a counting sort by tet (atomic counters, on all threads: the
+    // order inside a tet varies), then each tet's few triangles sorted, on all threads.
     std::vector<std::uint32_t>& first = cand_first_;
-    for (const auto& f : found)
-      for (const auto& [t, x] : f) ++first[t + 1];
-    for (std::size_t t = 0; t < tet_count; ++t) first[t + 1] += first[t];
+    parallel_for(threads_, slices, [&](std::size_t slice, unsigned) {
+      for (const auto& [t, x] : found[slice])
+        std::atomic_ref<std::uint32_t>(first[std::size_t{t} + 1]).fetch_add(1, std::memory_order_relaxed);
+    }, /*grain=*/1);
+    prefix_sum(threads_, first);
     candidates_.resize(first[tet_count]);
-    for (const auto& f : found)
-      for (const auto& pair : f) candidates_[first[pair.first]++] = pair;
-    for (std::size_t t = tet_count; t > 0; --t) first[t] = first[t - 1];
-    first[0] = 0;
-    // Sorted and unique per tet (a wide tet is met once per cell it shares with a triangle's box).
-    std::size_t kept = 0;
-    for (std::size_t t = 0; t < tet_count; ++t) {
-      const auto begin = candidates_.begin() + first[t], end = candidates_.begin() + first[t + 1];
-      std::sort(begin, end);
-      first[t] = static_cast<std::uint32_t>(kept);
-      for (auto c = begin; c != end; ++c)
-        if (c == begin || *c != *(c - 1)) candidates_[kept++] = *c;
+    {
+      std::vector<std::uint32_t> next(first.begin(), first.end() - 1);
+      parallel_for(threads_, slices, [&](std::size_t slice, unsigned) {
+        for (const auto& pair : found[slice])
+          candidates_[std::atomic_ref<std::uint32_t>(next[pair.first]).fetch_add(1, std::memory_order_relaxed)] = pair;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>>().swap(found[slice]);
+      }, /*grain=*/1);
     }
-    first[tet_count] = static_cast<std::uint32_t>(kept);
-    candidates_.resize(kept);
+    // Sorted and unique per tet (a wide tet is met once per cell it shares with a triangle's box).
+    std::atomic<std::size_t> repeats{0};
+    parallel_blocks(threads_, tet_count, 1 << 14, [&](std::size_t begin_tet, std::size_t end_tet) {
+      std::size_t n = 0;
+      for (std::size_t t = begin_tet; t < end_tet; ++t) {
+        const auto begin = candidates_.begin() + first[t], end = candidates_.begin() + first[t + 1];
+        std::sort(begin, end);
+        for (auto c = begin; c != end; ++c)
+          if (c != begin && *c == *(c - 1)) ++n;  // only counted here: ...
+      }
+      repeats += n;
+    });
+    if (repeats > 0) {
+      // ... the repeats (wide tets only) are removed by one compaction pass, in tet order.
+      std::size_t kept = 0;
+      for (std::size_t t = 0; t < tet_count; ++t) {
+        const auto begin = candidates_.begin() + first[t], end = candidates_.begin() + first[t + 1];
+        first[t] = static_cast<std::uint32_t>(kept);
+        for (auto c = begin; c != end; ++c)
+          if (c == begin || *c != *(c - 1)) candidates_[kept++] = *c;
+      }
+      first[tet_count] = static_cast<std::uint32_t>(kept);
+      candidates_.resize(kept);
+    }
     out_.candidate_pairs = candidates_.size();
   }
 
@@ -706,37 +767,91 @@ class VirtualTets {
     }
   }
 
-  /// Appends tet t's local regions and everything that refers to them (in tet order).
-  void merge(std::uint32_t t, TetOut& o) {
-    if (o.defect) {
-      non_generic_ = true;
-      report_.add(std::move(*o.defect));
-      return;
+  /// Appends the tets from next_tet to tets[count - 1] in tet order: the uncut ones between (as
+  /// append_uncut) and each tets[i] with its result outs[i], everything that refers to their
+  /// local regions included. Each tet's share of every array is counted first, then all are
+  /// written at their offsets on all threads: the arrays are the one-by-one merge's for every
+  /// thread count (this merge was the largest serial part of the tets stage, BENCHMARKS.md).
+  void merge_block(const std::uint32_t* tets, std::vector<TetOut>& outs, std::size_t count, std::uint32_t& next_tet) {
+    if (count == 0) return;
+    // at[i]: where the uncut tets before tets[i] (from gap_begin(i)) start writing, per array.
+    struct Offsets {
+      std::size_t regions, fusions, traces, embedded;
+    };
+    const auto gap_begin = [&](std::size_t i) { return i == 0 ? next_tet : tets[i - 1] + 1; };
+    std::vector<Offsets> at(count + 1);
+    at[0] = {out_.region.size(), out_.fusions.size(), traces_.size(), out_.embedded.size()};
+    for (std::size_t i = 0; i < count; ++i) {
+      const TetOut& o = outs[i];
+      at[i + 1] = {at[i].regions + (tets[i] - gap_begin(i)) + o.regions.size(), at[i].fusions + o.fusions.size(),
+                   at[i].traces + o.traces.size(), at[i].embedded + o.embedded.size()};
+      out_.polygons += o.polygons;
+      out_.pieces += o.pieces;
+      out_.side_tests += o.side_tests;
+      if (o.regions.size() > 1) ++out_.cut_elements;
     }
-    if (o.error) std::rethrow_exception(o.error);
-    const std::uint32_t base = out_.append_element(t, o.regions, o.fusions);
-    out_.polygons += o.polygons;
-    out_.pieces += o.pieces;
-    out_.side_tests += o.side_tests;
-    std::sort(o.traces.begin(), o.traces.end(), [](const Trace& a, const Trace& b) {
-      return std::tie(a.face, a.triangle) < std::tie(b.face, b.triangle);
-    });
-    for (auto tr : o.traces) traces_.push_back({tr.tet, tr.face, tr.triangle, base + tr.outer, base + tr.inner});
-    trace_first_.push_back(static_cast<std::uint32_t>(traces_.size()));
-    for (auto e : o.embedded) out_.embedded.push_back({base + e.local_region, e.cut_triangle, e.inner});
-    for (auto& [point, location] : o.vertices) {
-      if (out_.vertices[point].local_region != kNone) continue;  // the first tet (in order) wins
-      location.local_region += base;
+    const std::uint32_t end = tets[count - 1] + 1;
+    IMM_ASSERT(at[count].regions < kNone && at[count].traces < kNone, "too many local regions or traces");
+    out_.first.resize(end);
+    out_.region.resize(at[count].regions);  // the uncut tets' regions stay unknown: resolve_regions
+    out_.element.resize(at[count].regions);
+    out_.fusions.resize(at[count].fusions);
+    traces_.resize(at[count].traces);
+    trace_first_.resize(std::size_t{end} + 1);
+    out_.embedded.resize(at[count].embedded);
+    parallel_for(threads_, count, [&](std::size_t i, unsigned) {
+      TetOut& o = outs[i];
+      const std::uint32_t t = tets[i];
+      auto lr = static_cast<std::uint32_t>(at[i].regions);
+      const auto traces_before = static_cast<std::uint32_t>(at[i].traces);
+      for (std::uint32_t u = gap_begin(i); u < t; ++u, ++lr) {
+        out_.first[u] = lr;
+        out_.element[lr] = u;
+        trace_first_[std::size_t{u} + 1] = traces_before;
+      }
+      const std::uint32_t base = lr;
+      out_.first[t] = base;
+      for (std::size_t k = 0; k < o.regions.size(); ++k) {
+        out_.region[base + k] = o.regions[k];
+        out_.element[base + k] = t;
+      }
+      for (std::size_t k = 0; k < o.fusions.size(); ++k) {
+        const LocalRegions::Fusion& f = o.fusions[k];
+        out_.fusions[at[i].fusions + k] = {base + f.inner, base + f.outer, f.patch};
+      }
+      std::sort(o.traces.begin(), o.traces.end(), [](const Trace& a, const Trace& b) {
+        return std::tie(a.face, a.triangle) < std::tie(b.face, b.triangle);
+      });
+      for (std::size_t k = 0; k < o.traces.size(); ++k) {
+        const Trace& tr = o.traces[k];
+        traces_[traces_before + k] = {tr.tet, tr.face, tr.triangle, base + tr.outer, base + tr.inner};
+      }
+      trace_first_[std::size_t{t} + 1] = static_cast<std::uint32_t>(at[i + 1].traces);
+      for (std::size_t k = 0; k < o.embedded.size(); ++k) {
+        const LocalRegions::Embedded& e = o.embedded[k];
+        out_.embedded[at[i].embedded + k] = {base + e.local_region, e.cut_triangle, e.inner};
+      }
+      for (std::uint32_t x : o.triangles) std::atomic_ref<char>(triangle_has_polygon_[x]).store(1, std::memory_order_relaxed);
+      for (std::size_t f = 0; f < 4; ++f) face_region_[4 * std::size_t{t} + f] = o.face_lr[f] != kNone ? base + o.face_lr[f] : kNone;
+    }, /*grain=*/16);
+    // Input vertices: the first tet in tet order (and the first entry in it) wins; its weights
+    // are computed afterwards, on all threads, once per vertex.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> located;  // (input point, tet)
+    for (std::size_t i = 0; i < count; ++i) {
+      for (auto& [point, location] : outs[i].vertices) {
+        if (out_.vertices[point].local_region != kNone) continue;
+        location.local_region += out_.first[tets[i]];
+        out_.vertices[point] = location;
+        located.emplace_back(point, tets[i]);
+      }
+    }
+    parallel_for(threads_, located.size(), [&](std::size_t k, unsigned) {
+      const auto [point, t] = located[k];
       const Point3& q = c_.surface.vertices[point];
-      location.weights = tet_barycentric(bg_, t, {q[0] + shift_[0], q[1] + shift_[1], q[2] + shift_[2]});
-      out_.vertices[point] = location;
-    }
-    for (std::uint32_t x : o.triangles) triangle_has_polygon_[x] = 1;
-    for (std::size_t f = 0; f < 4; ++f)
-      if (o.face_lr[f] != kNone) face_region_[4 * t + f] = base + o.face_lr[f];
+      out_.vertices[point].weights = tet_barycentric(bg_, t, {q[0] + shift_[0], q[1] + shift_[1], q[2] + shift_[2]});
+    }, /*grain=*/256);
+    next_tet = end;
   }
-
-
 
   // ---- which side of a piece -----------------------------------------------------------------
 
@@ -874,7 +989,9 @@ class VirtualTets {
           std::atomic_ref<std::uint32_t>(star_first[static_cast<std::size_t>(v) + 1]).fetch_add(1, std::memory_order_relaxed);
     }, /*grain=*/1);
     for (std::size_t v = 0; v + 1 < star_first.size(); ++v) star_first[v + 1] += star_first[v];
-    std::vector<std::uint32_t> star(star_first.back());
+    // Uninitialised: every entry is written below (a value-initialised 16 bytes per tet was a
+    // serial pass).
+    std::unique_ptr<std::uint32_t[]> star(new std::uint32_t[star_first.back()]);
     {
       std::vector<std::uint32_t> next(star_first.begin(), star_first.end() - 1);
       parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
@@ -890,7 +1007,8 @@ class VirtualTets {
     // vertex: the faces there whose smallest vertex it is, sorted by their other two vertices
     // (a few dozen per vertex), pair up. Vertices are independent: all threads.
     constexpr std::uint32_t kBoundaryFace = kNone, kSharedByMore = kNone - 1;
-    std::vector<std::uint32_t> neighbour(4 * tet_count);
+    // Uninitialised as `star`: every face has a smallest vertex, where it is written.
+    std::unique_ptr<std::uint32_t[]> neighbour(new std::uint32_t[4 * tet_count]);
     struct StarFace {
       std::array<int, 2> rest;  ///< the face's two larger vertices
       std::uint32_t face;       ///< 4 t + f
@@ -931,20 +1049,23 @@ class VirtualTets {
         }
       }
     }, /*grain=*/1);
-    // Defects and boundary faces, in face-key order as the coverage check reports them.
-    std::vector<std::pair<std::array<int, 3>, std::uint32_t>> shared_by_more, boundary;
+    star.reset();  // 16 bytes a tet, not held through the adjacencies below (peak memory)
+    std::vector<std::uint32_t>().swap(star_first);
+    // Defects (in face-key order) and boundary faces (in face order: the coverage check reports
+    // the one with the smallest key, no sort of them all).
+    std::vector<std::pair<std::array<int, 3>, std::uint32_t>> shared_by_more;
     {
-      std::vector<std::vector<std::pair<std::array<int, 3>, std::uint32_t>>> chunk_boundary(tet_chunks),
-          chunk_shared(tet_chunks);
+      std::vector<std::vector<std::uint32_t>> chunk_boundary(tet_chunks);
+      std::vector<std::vector<std::pair<std::array<int, 3>, std::uint32_t>>> chunk_shared(tet_chunks);
       parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
         for (std::size_t i = 4 * chunk * kTetChunk; i < 4 * std::min(tet_count, (chunk + 1) * kTetChunk); ++i) {
           const auto face = static_cast<std::uint32_t>(i);
-          if (neighbour[i] == kBoundaryFace) chunk_boundary[chunk].emplace_back(key_of(face / 4, static_cast<int>(face % 4)), face);
+          if (neighbour[i] == kBoundaryFace) chunk_boundary[chunk].push_back(face);
           if (neighbour[i] == kSharedByMore) chunk_shared[chunk].emplace_back(key_of(face / 4, static_cast<int>(face % 4)), face);
         }
       }, /*grain=*/1);
       for (std::size_t chunk = 0; chunk < tet_chunks; ++chunk) {
-        boundary.insert(boundary.end(), chunk_boundary[chunk].begin(), chunk_boundary[chunk].end());
+        boundary_.insert(boundary_.end(), chunk_boundary[chunk].begin(), chunk_boundary[chunk].end());
         shared_by_more.insert(shared_by_more.end(), chunk_shared[chunk].begin(), chunk_shared[chunk].end());
       }
     }
@@ -959,13 +1080,16 @@ class VirtualTets {
                         key);
       i = j;
     }
-    std::sort(boundary.begin(), boundary.end());
-    for (const auto& [key, i] : boundary) {
-      const std::uint32_t t = i / 4;
-      const auto f = static_cast<std::uint8_t>(i % 4);
-      boundary_.push_back({t, f});
-      const auto [lo, hi] = traces_of(t, f);
-      if (lo != hi && boundary_crossing_ == kNone) boundary_crossing_ = static_cast<std::uint32_t>(lo - traces_.begin());
+    // The traced boundary face with the smallest key (keys of boundary faces are distinct).
+    std::array<int, 3> crossing_key{};
+    for (const std::uint32_t face : boundary_) {
+      const auto [lo, hi] = traces_of(face / 4, static_cast<std::uint8_t>(face % 4));
+      if (lo == hi) continue;
+      const std::array<int, 3> key = key_of(face / 4, static_cast<int>(face % 4));
+      if (boundary_crossing_ == kNone || key < crossing_key) {
+        boundary_crossing_ = static_cast<std::uint32_t>(lo - traces_.begin());
+        crossing_key = key;
+      }
     }
     // Adjacencies, tet by tet: those whose `first` lies in tet t come from its faces towards larger
     // tets; sorted and unique per tet, so in tet order they are sorted and unique overall. Counted
@@ -1000,23 +1124,28 @@ class VirtualTets {
       }
       LocalRegions::normalise(list);
     };
-    std::vector<std::uint32_t> adjacency_first(tet_count + 1, 0);
+    // Per chunk of tets: its count, a prefix sum over the chunks (not over the tets: that was a
+    // serial pass), then each chunk writes its tets' lists one after the other.
     constexpr std::size_t kChunk = 8192;
     const std::size_t chunks = (tet_count + kChunk - 1) / kChunk;
+    std::vector<std::size_t> chunk_first(chunks + 1, 0);
     parallel_for(threads_, chunks, [&](std::size_t chunk, unsigned) {
       std::vector<Adjacency> list;
+      std::size_t n = 0;
       for (std::size_t t = chunk * kChunk; t < std::min(tet_count, (chunk + 1) * kChunk); ++t) {
         tet_adjacencies(static_cast<std::uint32_t>(t), list);
-        adjacency_first[t + 1] = static_cast<std::uint32_t>(list.size());
+        n += list.size();
       }
+      chunk_first[chunk + 1] = n;
     }, /*grain=*/1);
-    for (std::size_t t = 0; t < tet_count; ++t) adjacency_first[t + 1] += adjacency_first[t];
-    out_.adjacencies.resize(adjacency_first[tet_count]);
+    for (std::size_t chunk = 0; chunk < chunks; ++chunk) chunk_first[chunk + 1] += chunk_first[chunk];
+    out_.adjacencies.resize(chunk_first[chunks]);
     parallel_for(threads_, chunks, [&](std::size_t chunk, unsigned) {
       std::vector<Adjacency> list;
+      auto at = out_.adjacencies.begin() + static_cast<std::ptrdiff_t>(chunk_first[chunk]);
       for (std::size_t t = chunk * kChunk; t < std::min(tet_count, (chunk + 1) * kChunk); ++t) {
         tet_adjacencies(static_cast<std::uint32_t>(t), list);
-        std::copy(list.begin(), list.end(), out_.adjacencies.begin() + adjacency_first[t]);
+        at = std::copy(list.begin(), list.end(), at);
       }
     }, /*grain=*/1);
   }
@@ -1090,18 +1219,31 @@ class VirtualTets {
                   p);
       return;
     }
-    for (const auto& [t, f] : boundary_) {
-      const auto& tet = bg_.tets[t];
-      const Point3& p = bg_.vertices[static_cast<std::size_t>(tet[kFace[f][0]])];
-      if (out_.first[t + 1] - out_.first[t] > 1 && face_region_[4 * t + f] == kNone) continue;  // traced
-      const std::uint32_t lr = out_.first[t + 1] - out_.first[t] == 1 ? out_.first[t] : face_region_[4 * t + f];
+    // Of the boundary faces with a cell on their inner side, the one with the smallest key.
+    std::uint32_t inside = kNone;
+    std::array<int, 3> inside_key{};
+    int inside_winding = 0;
+    for (const std::uint32_t face : boundary_) {
+      const std::uint32_t t = face / 4, f = face % 4;
+      if (out_.first[t + 1] - out_.first[t] > 1 && face_region_[face] == kNone) continue;  // traced
+      const std::uint32_t lr = out_.first[t + 1] - out_.first[t] == 1 ? out_.first[t] : face_region_[face];
       const int w = c_.complex.winding_number(out_.region[lr]);
-      if (w != 0) {
-        not_covered("the background mesh ends inside a cell (winding number " + std::to_string(w) +
-                        ") at boundary tet " + std::to_string(t) + " near " + format_point(p),
-                    p);
-        return;
+      if (w == 0) continue;
+      std::array<int, 3> key = {bg_.tets[t][kFace[f][0]], bg_.tets[t][kFace[f][1]], bg_.tets[t][kFace[f][2]]};
+      std::sort(key.begin(), key.end());
+      if (inside == kNone || key < inside_key) {
+        inside = face;
+        inside_key = key;
+        inside_winding = w;
       }
+    }
+    if (inside != kNone) {
+      const std::uint32_t t = inside / 4, f = inside % 4;
+      const Point3& p = bg_.vertices[static_cast<std::size_t>(bg_.tets[t][kFace[f][0]])];
+      not_covered("the background mesh ends inside a cell (winding number " + std::to_string(inside_winding) +
+                      ") at boundary tet " + std::to_string(t) + " near " + format_point(p),
+                  p);
+      return;
     }
     for (std::uint32_t x = 0; x < m_.triangles.size(); ++x) {
       if (triangle_has_polygon_[x]) continue;
@@ -1132,9 +1274,11 @@ class VirtualTets {
   std::vector<std::uint32_t> cand_first_;  ///< candidates of tet t: cand_first_[t] .. [t+1]-1
   std::vector<Trace> traces_;               ///< in (tet, face, triangle) order
   std::vector<std::uint32_t> trace_first_{0};  ///< traces of tet t: trace_first_[t] .. [t+1]-1
-  std::vector<std::uint32_t> face_region_;  ///< per (tet, face) without traces in a cut tet
+  /// Per face 4 t + f of a tet with candidates: its local region when untraced, else kNone
+  /// (uninitialised for the other tets, never read: they have one local region).
+  std::unique_ptr<std::uint32_t[]> face_region_;
   std::vector<char> triangle_has_polygon_;
-  std::vector<std::pair<std::uint32_t, std::uint8_t>> boundary_;
+  std::vector<std::uint32_t> boundary_;       ///< boundary faces 4 t + f, in face order
   std::uint32_t boundary_crossing_ = kNone;  ///< a trace on a boundary face, if any
   LocalRegions out_;
 };
@@ -1146,6 +1290,17 @@ LocalRegions compute_local_regions(const Complex& complex, const TetMesh& backgr
                                    ValidationReport& report, bool& non_generic) {
   IMM_ASSERT(complex.exact != nullptr, "complex without exact geometry");
   threads = resolve_threads(threads);
+  if (background.tets.size() > kMaxBackgroundTets) {
+    // Faces are numbered 4 t + f in 32 bits (connect_faces): a larger background would overflow.
+    Defect d;
+    d.kind = DefectKind::OutOfRange;
+    d.stage = "background";
+    d.message = "the background mesh has " + std::to_string(background.tets.size()) + " tets, more than the " +
+                std::to_string(kMaxBackgroundTets) + " the mesher takes";
+    report.add(std::move(d));
+    non_generic = false;
+    return LocalRegions();
+  }
   return VirtualTets(complex, background, shift, record_embedded, threads, interval_filter, report, non_generic)
       .run();
 }

@@ -261,6 +261,22 @@ TEST(TetTetGen, QuadraticTetsKeepTheirCorners) {
   EXPECT_EQ(r.mesh.tets[0], (Tet{0, 1, 2, 3}));
 }
 
+// Face pairing numbers faces 4 t + f in 32 bits: a background of 2^30 tets or more would
+// overflow it, so its file is refused at the header, before any record is read (no memory).
+TEST(TetTetGen, MoreTetsThanTheMesherTakesAreRefusedAtTheHeader) {
+  write_temp("huge.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+  write_temp("huge.ele", "1073741824 4 0\n1 1 2 3 4\n");
+  const TetReadResult r = read_tet_mesh(temp_dir() + "/huge.ele");
+  const Defect& d = only_defect(r.report);
+  EXPECT_EQ(d.kind, DefectKind::Unreadable);
+  EXPECT_TRUE(contains(d.message, "1073741824 tets, more than the 1073741823")) << d.message;
+  // One tet fewer passes the header: the file is then only truncated.
+  write_temp("huge.ele", "1073741823 4 0\n1 1 2 3 4\n");
+  const TetReadResult at_limit = read_tet_mesh(temp_dir() + "/huge.ele");
+  const Defect& truncated = only_defect(at_limit.report);
+  EXPECT_FALSE(contains(truncated.message, "more than")) << truncated.message;
+}
+
 TEST(TetTetGen, MissingSiblingIsUnreadableAndNamed) {
   write_temp("alone.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
   const TetReadResult r = read_tet_mesh(temp_dir() + "/alone.node");
