@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/diagnostics.h"
+#include "core/huge_pages.h"
 #include "core/parallel.h"
 #include "core/union_find.h"
 
@@ -29,7 +30,9 @@ int local_index(const std::array<std::int32_t, N>& element, std::int32_t v) {
 /// on all threads before they are read, and value-initialising them would be a serial pass.
 template <class T>
 std::unique_ptr<T[]> uninitialized(std::size_t n) {
-  return std::unique_ptr<T[]>(new T[n]);
+  std::unique_ptr<T[]> a(new T[n]);
+  advise_huge_pages(a.get(), n * sizeof(T));  // written whole right away (core/huge_pages.h)
+  return a;
 }
 
 /// Union-find whose unions may run on several threads at once: a root is only ever linked below a

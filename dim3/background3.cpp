@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "core/huge_pages.h"
 #include "dim3/tet_mesh.h"
 
 namespace imm::dim3 {
@@ -97,6 +98,7 @@ TetMesh make_grid_background(const Box3& box, int resolution, int attempt) {
   const long long nx = cubes[0] + 1, ny = cubes[1] + 1, nz = cubes[2] + 1;
   TetMesh mesh;
   mesh.vertices.reserve(static_cast<std::size_t>(nx * ny * nz));
+  advise_huge_pages(mesh.vertices);  // written whole below (core/huge_pages.h)
   for (long long z = 0; z < nz; ++z) {
     for (long long y = 0; y < ny; ++y) {
       for (long long x = 0; x < nx; ++x)
@@ -122,6 +124,7 @@ TetMesh make_grid_background(const Box3& box, int resolution, int attempt) {
     }
   }
   mesh.tets.reserve(static_cast<std::size_t>(tet_count));
+  advise_huge_pages(mesh.tets);
   for (long long z = 0; z + 1 < nz; ++z) {
     for (long long y = 0; y + 1 < ny; ++y) {
       for (long long x = 0; x + 1 < nx; ++x) {

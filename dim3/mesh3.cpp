@@ -12,6 +12,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/huge_pages.h"
 #include "core/parallel.h"
 #include "core/unglue.h"
 #include "dim3/mesh3_detail.h"
@@ -150,7 +151,10 @@ void assemble_releasing(const Complex& complex, const Immersion& immersion, cons
   // 3. Atoms, fusions and adjacencies for the driver.
   // On all threads, in element order (the same lists for every thread count): at millions of
   // background tets this stage was the largest serial one (BENCHMARKS.md, issue 17).
-  std::vector<std::array<std::int32_t, 4>> elements(background.tets.size());
+  std::vector<std::array<std::int32_t, 4>> elements;
+  elements.reserve(background.tets.size());
+  advise_huge_pages(elements);  // written whole below (core/huge_pages.h)
+  elements.resize(background.tets.size());
   parallel_blocks(threads, elements.size(), 1 << 16, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
       const Tet& tet = background.tets[t];

@@ -58,6 +58,7 @@
 #include <type_traits>
 #include <unordered_map>
 
+#include "core/huge_pages.h"
 #include "core/parallel.h"
 #include "core/union_find.h"
 #include "core/unglue.h"
@@ -197,6 +198,8 @@ class VirtualTets {
     out_.region.reserve(bg_.tets.size() + 2 * candidate_tets.size());
     out_.element.reserve(bg_.tets.size() + 2 * candidate_tets.size());
     trace_first_.reserve(bg_.tets.size() + 1);
+    for (const auto* v : {&out_.first, &out_.element, &trace_first_}) advise_huge_pages(*v);
+    advise_huge_pages(out_.region);
     // Tets are independent: blocks of them run on the threads, and are merged in tet order so
     // that the result does not depend on the thread count.
     constexpr std::size_t kBlock = 4096;
@@ -992,6 +995,7 @@ class VirtualTets {
     // Uninitialised: every entry is written below (a value-initialised 16 bytes per tet was a
     // serial pass).
     std::unique_ptr<std::uint32_t[]> star(new std::uint32_t[star_first.back()]);
+    advise_huge_pages(star.get(), sizeof(std::uint32_t) * star_first.back());
     {
       std::vector<std::uint32_t> next(star_first.begin(), star_first.end() - 1);
       parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
@@ -1009,6 +1013,7 @@ class VirtualTets {
     constexpr std::uint32_t kBoundaryFace = kNone, kSharedByMore = kNone - 1;
     // Uninitialised as `star`: every face has a smallest vertex, where it is written.
     std::unique_ptr<std::uint32_t[]> neighbour(new std::uint32_t[4 * tet_count]);
+    advise_huge_pages(neighbour.get(), sizeof(std::uint32_t) * 4 * tet_count);
     struct StarFace {
       std::array<int, 2> rest;  ///< the face's two larger vertices
       std::uint32_t face;       ///< 4 t + f
@@ -1139,6 +1144,8 @@ class VirtualTets {
       chunk_first[chunk + 1] = n;
     }, /*grain=*/1);
     for (std::size_t chunk = 0; chunk < chunks; ++chunk) chunk_first[chunk + 1] += chunk_first[chunk];
+    out_.adjacencies.reserve(chunk_first[chunks]);
+    advise_huge_pages(out_.adjacencies);
     out_.adjacencies.resize(chunk_first[chunks]);
     parallel_for(threads_, chunks, [&](std::size_t chunk, unsigned) {
       std::vector<Adjacency> list;
