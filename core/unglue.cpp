@@ -35,6 +35,15 @@ std::unique_ptr<T[]> uninitialized(std::size_t n) {
   return a;
 }
 
+/// v.resize(n) after advising huge pages for its storage: the value-initialisation of a large
+/// array is a serial pass of page faults otherwise (core/huge_pages.h).
+template <class Vector>
+void resize_advised(Vector& v, std::size_t n) {
+  v.reserve(n);
+  advise_huge_pages(v);
+  v.resize(n);
+}
+
 /// Union-find whose unions may run on several threads at once: a root is only ever linked below a
 /// smaller root (compare-and-swap; a lost race retries from the new roots), so the root of every
 /// class is its smallest member, whatever the order of the unions. The classes and their roots
@@ -134,8 +143,8 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
         return static_cast<std::size_t>(atom_root[a] == a);
       },
       [&](std::size_t total) {
-        out.copy_element.resize(total);
-        out.copy_node.resize(total);
+        resize_advised(out.copy_element, total);
+        resize_advised(out.copy_node, total);
       },
       [&](std::size_t i, std::size_t copy) {
         const std::uint32_t root = atom_at(i);
@@ -151,7 +160,7 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
         out.copy_node[copy] = node;
       },
       kBlock);
-  out.atom_copy.resize(atom_count);
+  resize_advised(out.atom_copy, atom_count);
   parallel_blocks(threads, atom_count, kBlock, [&](std::size_t begin, std::size_t end) {
     for (std::size_t a = begin; a < end; ++a) out.atom_copy[a] = root_copy[atom_root[a]];
   });
@@ -197,14 +206,14 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
       threads, slot_count, [&](std::size_t s) { return static_cast<std::size_t>(slot_root[s] == s); },
       [&](std::size_t total) {
         IMM_ASSERT(total < static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()), "too many vertices");
-        out.vertex_source.resize(total);
+        resize_advised(out.vertex_source, total);
       },
       [&](std::size_t s, std::size_t id) {
         class_id[s] = static_cast<std::int32_t>(id);
         out.vertex_source[id] = input.elements[out.copy_element[s / kArity]][s % kArity];
       },
       kBlock);
-  out.copies.resize(copy_count);
+  resize_advised(out.copies, copy_count);
   parallel_blocks(threads, copy_count, kBlock, [&](std::size_t begin, std::size_t end) {
     for (std::size_t c = begin; c < end; ++c) {
       const auto& element = input.elements[out.copy_element[c]];
@@ -230,6 +239,8 @@ AtomExpansion<D>::AtomExpansion(const CellComplex<D>& complex, const Immersion& 
   input_.elements = std::move(elements);
   IMM_ASSERT(first.size() == input_.elements.size() + 1 && first.back() == region.size(),
              "local regions do not match the elements");
+  atom_first_.reserve(region.size());
+  advise_huge_pages(atom_first_);
   atom_first_.assign(region.size(), kNoAtom);
   const NodeLayout& layout = immersion.layout;
   // Element by element, in element order: each element's atoms counted, then written at their
@@ -244,7 +255,7 @@ AtomExpansion<D>::AtomExpansion(const CellComplex<D>& complex, const Immersion& 
       },
       [&](std::size_t total) {
         IMM_ASSERT(total < kNoAtom, "too many atoms");
-        atoms.resize(total);
+        resize_advised(atoms, total);
       },
       [&](std::size_t e, std::size_t at) {
         for (std::uint32_t lr = first[e]; lr < first[e + 1]; ++lr) {
