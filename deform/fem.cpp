@@ -44,11 +44,19 @@ struct Potential {
     return corners.transpose() * data.geometry[static_cast<std::size_t>(e)].gradients;
   }
 
-  [[nodiscard]] double value(const Eigen::MatrixXd& x) const {
+  /// Per element the rotation of its deformation gradient (closest_rotation), which value()
+  /// computes and gradient_and_hessian() at the same positions reuses: half the cost of an
+  /// assembly after an accepted line-search trial.
+  using Rotations = std::vector<Eigen::Matrix<double, D, D>>;
+
+  /// The potential at `x`; `rotations` (if given) receives each element's rotation.
+  [[nodiscard]] double value(const Eigen::MatrixXd& x, Rotations* rotations = nullptr) const {
     const double mu = options.material.mu(), lambda = options.material.lambda();
     double total = 0.0;
+    if (rotations != nullptr) rotations->resize(static_cast<std::size_t>(data.rest.element_count()));
     for (Eigen::Index e = 0; e < data.rest.element_count(); ++e) {
       const Eigen::Matrix<double, D, D> f = gradient_of(x, e), r = closest_rotation<D>(f);
+      if (rotations != nullptr) (*rotations)[static_cast<std::size_t>(e)] = r;
       const double trace = (r.transpose() * f).trace() - D;
       total += data.geometry[static_cast<std::size_t>(e)].volume * (mu * (f - r).squaredNorm() + 0.5 * lambda * trace * trace);
     }
@@ -66,9 +74,10 @@ struct Potential {
 
   /// Gradient (n x D) and, when `pattern` is given, the Newton matrix `hessian` on the free
   /// degrees of freedom written into pattern->matrix's values (its sparsity is fixed per mesh, so
-  /// the factorization's symbolic analysis is done once).
+  /// the factorization's symbolic analysis is done once). `rotations`: value()'s at these `x`, or
+  /// nullptr.
   void gradient_and_hessian(const Eigen::MatrixXd& x, HessianPattern* pattern, NewtonMatrix hessian,
-                            Eigen::MatrixXd& gradient) const {
+                            Eigen::MatrixXd& gradient, const Rotations* rotations = nullptr) const {
     constexpr int N = D * (D + 1);
     using Square = Eigen::Matrix<double, D, D>;
     const double mu = options.material.mu(), lambda = options.material.lambda();
@@ -93,7 +102,7 @@ struct Potential {
       Eigen::Matrix<double, D, 1> s;
       double trace = 0.0;
       if (f.determinant() > 0.0) {
-        r = closest_rotation<D>(f);
+        r = rotations != nullptr ? (*rotations)[static_cast<std::size_t>(e)] : closest_rotation<D>(f);
         const Square rf = r.transpose() * f;
         Eigen::SelfAdjointEigenSolver<Square> eigen;
         eigen.computeDirect(0.5 * (rf + rf.transpose()));
@@ -174,46 +183,81 @@ struct Potential {
 };
 
 /// The sparsity of the Newton matrix on the free degrees of freedom (`dof` maps vertex * D +
-/// axis to a free index, or -1), and where each element's and vertex's entries go in its value
-/// array (column-major within the element's D(D+1) square; -1 for a fixed row or column), so
-/// that assembly writes values in place, in element order (deterministic), without triplets.
+/// axis to a free index, or -1; a vertex is fixed in all its axes or none), and where each
+/// element's and vertex's entries go in its value array (column-major within the element's
+/// D(D+1) square; -1 for a fixed row or column), so that assembly writes values in place, in
+/// element order (deterministic), without triplets. Built from the vertex graph, D x D blocks
+/// per neighbouring pair: the triplets of every element entry (12 M on the quintuple torus)
+/// and a search per entry took 2 s, more than a factorization.
 template <int D>
 HessianPattern hessian_pattern(const SimplexMesh<D>& mesh, const std::vector<Eigen::Index>& dof, Eigen::Index free_count) {
   constexpr int N = D * (D + 1);
-  const auto global = [&](Eigen::Index e, int local) {
-    return dof[static_cast<std::size_t>(mesh.elements(e, local / D) * D + local % D)];
-  };
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<std::size_t>(mesh.element_count()) * N * N + static_cast<std::size_t>(free_count) * D);
+  const Eigen::Index n = mesh.vertex_count();
+  const auto free_vertex = [&](Eigen::Index v) { return dof[static_cast<std::size_t>(v * D)] >= 0; };
+  // Each vertex's neighbours (itself included), sorted: `first` / `neighbours` in CSR form.
+  std::vector<std::vector<int>> lists(static_cast<std::size_t>(n));
+  for (Eigen::Index v = 0; v < n; ++v) lists[static_cast<std::size_t>(v)].push_back(static_cast<int>(v));
   for (Eigen::Index e = 0; e < mesh.element_count(); ++e)
-    for (int p = 0; p < N; ++p)
-      for (int q = 0; q < N; ++q)
-        if (global(e, p) >= 0 && global(e, q) >= 0) triplets.emplace_back(global(e, p), global(e, q), 1.0);
-  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v)
-    for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) {
-        const Eigen::Index row = dof[static_cast<std::size_t>(v * D + a)], col = dof[static_cast<std::size_t>(v * D + b)];
-        if (row >= 0 && col >= 0) triplets.emplace_back(row, col, 1.0);
-      }
+    for (int i = 0; i < D + 1; ++i)
+      for (int j = 0; j < D + 1; ++j)
+        if (i != j) lists[static_cast<std::size_t>(mesh.elements(e, i))].push_back(mesh.elements(e, j));
+  std::vector<int> first(static_cast<std::size_t>(n) + 1, 0), neighbours, offset;  // offset: free dofs of the neighbours before
+  for (Eigen::Index v = 0; v < n; ++v) {
+    std::vector<int>& list = lists[static_cast<std::size_t>(v)];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    int free_before = 0;
+    for (int w : list) {
+      neighbours.push_back(w);
+      offset.push_back(free_before);
+      if (free_vertex(w)) free_before += D;
+    }
+    first[static_cast<std::size_t>(v) + 1] = static_cast<int>(neighbours.size());
+    std::vector<int>().swap(list);
+  }
+  // Columns in free-dof order (vertex-major): column (v, a) holds the free rows of v's neighbours.
+  std::vector<int> outer(static_cast<std::size_t>(free_count) + 1, 0), inner;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    if (!free_vertex(v)) continue;
+    for (int a = 0; a < D; ++a) {
+      const Eigen::Index col = dof[static_cast<std::size_t>(v * D + a)];
+      for (int k = first[static_cast<std::size_t>(v)]; k < first[static_cast<std::size_t>(v) + 1]; ++k)
+        if (free_vertex(neighbours[static_cast<std::size_t>(k)]))
+          for (int b = 0; b < D; ++b) inner.push_back(static_cast<int>(dof[static_cast<std::size_t>(neighbours[static_cast<std::size_t>(k)] * D + b)]));
+      outer[static_cast<std::size_t>(col) + 1] = static_cast<int>(inner.size());
+    }
+  }
   HessianPattern pattern;
-  pattern.matrix.resize(free_count, free_count);
-  pattern.matrix.setFromTriplets(triplets.begin(), triplets.end());
-  pattern.matrix.makeCompressed();
-  const auto slot = [&](Eigen::Index row, Eigen::Index col) -> int {
-    if (row < 0 || col < 0) return -1;
-    const int* begin = pattern.matrix.innerIndexPtr() + pattern.matrix.outerIndexPtr()[col];
-    const int* end = pattern.matrix.innerIndexPtr() + pattern.matrix.outerIndexPtr()[col + 1];
-    return static_cast<int>(std::lower_bound(begin, end, static_cast<int>(row)) - pattern.matrix.innerIndexPtr());
+  const std::vector<double> zeros(inner.size(), 0.0);
+  pattern.matrix = Eigen::Map<const Eigen::SparseMatrix<double>>(free_count, free_count, static_cast<Eigen::Index>(inner.size()),
+                                                                 outer.data(), inner.data(), zeros.data());
+  // Where row vertex w's block starts in column vertex v's list (an index into `neighbours`),
+  // and the value index of entry (w, axis b; v, axis a); -1 for a fixed vertex.
+  const auto block = [&](Eigen::Index w, Eigen::Index v) -> std::ptrdiff_t {
+    if (!free_vertex(w) || !free_vertex(v)) return -1;
+    const int* begin = neighbours.data() + first[static_cast<std::size_t>(v)];
+    const int* end = neighbours.data() + first[static_cast<std::size_t>(v) + 1];
+    return std::lower_bound(begin, end, static_cast<int>(w)) - neighbours.data();
+  };
+  const auto slot = [&](std::ptrdiff_t k, int b, Eigen::Index v, int a) -> int {
+    if (k < 0) return -1;
+    return outer[static_cast<std::size_t>(dof[static_cast<std::size_t>(v * D + a)])] + offset[static_cast<std::size_t>(k)] + b;
   };
   pattern.element_slots.resize(static_cast<std::size_t>(mesh.element_count()) * N * N);
   for (Eigen::Index e = 0; e < mesh.element_count(); ++e)
-    for (int q = 0; q < N * N; ++q)
-      pattern.element_slots[static_cast<std::size_t>(e) * N * N + q] = slot(global(e, q % N), global(e, q / N));
-  pattern.vertex_slots.resize(static_cast<std::size_t>(mesh.vertex_count()) * D * D);
-  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v)
-    for (int q = 0; q < D * D; ++q)
-      pattern.vertex_slots[static_cast<std::size_t>(v) * D * D + q] =
-          slot(dof[static_cast<std::size_t>(v * D + q % D)], dof[static_cast<std::size_t>(v * D + q / D)]);
+    for (int i = 0; i < D + 1; ++i)      // row vertex
+      for (int j = 0; j < D + 1; ++j) {  // column vertex
+        const std::ptrdiff_t k = block(mesh.elements(e, i), mesh.elements(e, j));
+        for (int a = 0; a < D; ++a)    // column axis
+          for (int b = 0; b < D; ++b)  // row axis
+            pattern.element_slots[static_cast<std::size_t>(e) * N * N + static_cast<std::size_t>((j * D + a) * N + i * D + b)] =
+                slot(k, b, mesh.elements(e, j), a);
+      }
+  pattern.vertex_slots.resize(static_cast<std::size_t>(n) * D * D);
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const std::ptrdiff_t k = block(v, v);
+    for (int q = 0; q < D * D; ++q) pattern.vertex_slots[static_cast<std::size_t>(v) * D * D + q] = slot(k, q % D, v, q / D);
+  }
   return pattern;
 }
 
@@ -331,16 +375,17 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     solver.pcg_since_factor = 0;
     return solver.has_factor;
   };
+  typename Potential<D>::Rotations rotations, trial_rotations;  // value()'s at x and at the trial
   const auto assemble = [&](NewtonMatrix matrix, Eigen::MatrixXd& gradient) {
     const StageTimer timer(report.seconds.assembly);
-    potential.gradient_and_hessian(x, &pattern, matrix, gradient);
+    potential.gradient_and_hessian(x, &pattern, matrix, gradient, &rotations);
   };
 
   Eigen::MatrixXd gradient;
   double objective = 0.0;
   {
     const StageTimer timer(report.seconds.line_search);
-    objective = potential.value(x);
+    objective = potential.value(x, &rotations);
   }
   double first_residual = 0.0, previous_step = 0.0;
   for (int iteration = 0; iteration < options.max_newton_iterations; ++iteration) {
@@ -416,7 +461,7 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     bool accepted = false;
     for (int halving = 0; halving < 40; ++halving, alpha *= 0.5) {
       trial = x + alpha * direction;
-      trial_value = potential.value(trial);
+      trial_value = potential.value(trial, &trial_rotations);
       if (trial_value <= objective + 1e-4 * alpha * slope + round_off) {
         accepted = true;
         break;
@@ -430,6 +475,7 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     }
     x = trial;
     objective = trial_value;
+    rotations.swap(trial_rotations);
     // Converged when this step, or what remains after it, is below the tolerance. What
     // remains is estimated from the contraction theta of the last two full steps: steps that
     // keep contracting by theta sum to step theta / (1 - theta) (Deuflhard 2004, 2.1.2), and
@@ -491,9 +537,8 @@ FemReport fem_step(const FemData<D>& data, FemState<D>& state, const Eigen::Matr
   FemSolver own;
   const double h = options.time_step;
   Potential<D> potential{data, options, 1.0 / (h * h), state.positions + h * state.velocities};
-  Eigen::MatrixXd x = state.positions;
   // Start from the predicted positions (free flight), the usual warm start.
-  x = potential.predicted;
+  Eigen::MatrixXd x = potential.predicted;
   FemReport report = minimize(potential, x, fixed_targets, (solver != nullptr ? *solver : own).impl());
   state.velocities = (x - state.positions) / h;
   state.positions = x;
