@@ -269,6 +269,7 @@ int run_deform(Session& s, const CommandLine& cl, const SimplexMesh<D>& mesh, co
   Json frame_reports = Json::array();
   Eigen::MatrixXd x = mesh.vertices;
   deform::FemState<D> state{mesh.vertices, Eigen::MatrixXd::Zero(mesh.vertex_count(), D)};
+  deform::FemSolver fem_solver;  // the analysis and the last factorization, kept from frame to frame
   Eigen::MatrixXd targets(static_cast<Eigen::Index>(handles.size()), D);
   for (int f = 1; f <= frames; ++f) {
     const double t = static_cast<double>(f) / frames;
@@ -282,7 +283,7 @@ int run_deform(Session& s, const CommandLine& cl, const SimplexMesh<D>& mesh, co
       fr["iterations"] = r.iterations;
       fr["energy"] = r.energies.back();
     } else if (method == "fem") {
-      const deform::FemReport r = s.timed("solve", [&] { return deform::fem_step<D>(fem, state, targets, fem_options); });
+      const deform::FemReport r = s.timed("solve", [&] { return deform::fem_step<D>(fem, state, targets, fem_options, &fem_solver); });
       if (!r.error.empty()) {
         s.err() << "immerse deform: frame " << f << ": " << r.error << '\n';
         return kExitInvalidInput;
@@ -292,7 +293,7 @@ int run_deform(Session& s, const CommandLine& cl, const SimplexMesh<D>& mesh, co
       fr["converged"] = r.converged;
       fr["elastic_energy"] = deform::elastic_energy<D>(fem, x, file.material);
     } else {
-      const deform::FemReport r = s.timed("solve", [&] { return deform::fem_static<D>(fem, x, targets, fem_options); });
+      const deform::FemReport r = s.timed("solve", [&] { return deform::fem_static<D>(fem, x, targets, fem_options, &fem_solver); });
       if (!r.error.empty()) {
         s.err() << "immerse deform: " << r.error << '\n';
         return kExitInvalidInput;

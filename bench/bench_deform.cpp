@@ -2,14 +2,36 @@
 // on Kuhn grids of the unit box (tests/deform/grid.h) built outside the timed loop. The 3D sizes
 // reach the paper's quintuple-torus mesh (about 85k tets at 24 cells per side: 82,944 tets).
 // Counters: the system size (free unknowns) and the elements.
+//
+//  BM_Deform_FemQuintuple/scenario/pcg  consecutive implicit Euler steps of the quintuple torus's
+//                                 unglued mesh (../shared/data/real/3d/quintupleTorus.obj meshed on
+//                                 tet/quintupleTorus.veg, 84,938 tets; skipped when ../shared is
+//                                 absent), one FemSolver for the whole run. scenario 0: the
+//                                 vertices with x <= -2.4 fixed, those with x >= 2.4 jump by
+//                                 (0, 0, 0.3) in the first step and stay there (BENCHMARKS.md's
+//                                 handle-jump step, then the free vibration); scenario 1: nothing
+//                                 fixed, gravity along -y, the ground 0.05 below the lowest vertex
+//                                 (the Fig. 22 drop: free fall, then contact). pcg = FemOptions::
+//                                 max_pcg_iterations (0: a factorization every Newton iteration).
+//                                 Counters: CPU seconds of the first step, median and max of the
+//                                 following steps, the stages summed over all steps, Newton
+//                                 iterations, factorizations, PCG iterations, system size.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <optional>
 
+#include "core/parallel.h"
 #include "deform/arap.h"
+#include "deform/convert.h"
 #include "deform/fem.h"
 #include "deform/grid.h"
 #include "deform/weights.h"
+#include "dim3/mesh3.h"
+#include "dim3/self_connecting.h"
+#include "dim3/surface.h"
 
 namespace imm::bench {
 namespace {
@@ -87,6 +109,97 @@ void BM_Deform_FemStep(benchmark::State& state) {
   state.counters["newton_iterations"] = newton;
 }
 
+/// The quintuple torus's unglued mesh (built once; nullopt when ../shared is absent or it fails).
+const std::optional<SimplexMesh<3>>& quintuple_mesh() {
+  static const std::optional<SimplexMesh<3>> mesh = []() -> std::optional<SimplexMesh<3>> {
+    const std::string obj = std::string(IMM_SHARED_DATA_DIR) + "/3d/quintupleTorus.obj";
+    const std::string veg = std::string(IMM_SHARED_DATA_DIR) + "/tet/quintupleTorus.veg";
+    if (!std::filesystem::exists(obj) || !std::filesystem::exists(veg)) return std::nullopt;
+    const dim3::SurfaceReadResult read = dim3::read_surface(obj);
+    if (!read.report.ok()) return std::nullopt;
+    dim3::ImmerseOptions io;
+    io.build.exact_volumes = false;
+    const dim3::Immersed im = dim3::immerse_surface(read.surface, io);
+    if (!im.build.complex || im.search.immersions.empty()) return std::nullopt;
+    dim3::MeshOptions options;
+    options.background_path = veg;
+    const dim3::MeshResult m =
+        dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
+    if (!m.report.ok()) return std::nullopt;
+    return deform::to_simplex_mesh(m.mesh);
+  }();
+  return mesh;
+}
+
+void BM_Deform_FemQuintuple(benchmark::State& state) {
+  const std::optional<SimplexMesh<3>>& mesh = quintuple_mesh();
+  if (!mesh) {
+    state.SkipWithError("../shared/data/real/3d/quintupleTorus.obj or tet/quintupleTorus.veg absent (or not meshed)");
+    return;
+  }
+  const bool drop = state.range(0) == 1;
+  const int steps = drop ? 12 : 6;
+  deform::FemOptions options;  // E = 1e4, nu = 0.3, density 1, h = 1/30: the program's defaults
+  options.time_step = 1.0 / 30.0;
+  options.max_pcg_iterations = static_cast<int>(state.range(1));
+  std::vector<Eigen::Index> fixed;
+  Eigen::MatrixXd targets(0, 3);
+  if (drop) {
+    options.gravity = Eigen::Vector3d(0, -9.81, 0);
+    options.ground_normal = Eigen::Vector3d(0, 1, 0);
+    options.ground_offset = mesh->vertices.col(1).minCoeff() - 0.05;
+  } else {
+    for (Eigen::Index v = 0; v < mesh->vertex_count(); ++v)
+      if (mesh->vertices(v, 0) <= -2.4 || mesh->vertices(v, 0) >= 2.4) fixed.push_back(v);
+    targets = mesh->vertices(fixed, Eigen::all);
+    for (Eigen::Index k = 0; k < targets.rows(); ++k)
+      if (targets(k, 0) >= 2.4) targets(k, 2) += 0.3;
+  }
+  const deform::FemData<3> data = deform::fem_precompute<3>(*mesh, fixed, options.material);
+  std::vector<double> seconds;
+  deform::FemSeconds stages;
+  int newton = 0, factorizations = 0, pcg = 0, unconverged = 0;
+  deform::FemReport last;
+  for (auto _ : state) {
+    deform::FemSolver solver;
+    deform::FemState<3> s{mesh->vertices, Eigen::MatrixXd::Zero(mesh->vertex_count(), 3)};
+    seconds.clear();
+    stages = {};
+    newton = factorizations = pcg = unconverged = 0;
+    for (int step = 0; step < steps; ++step) {
+      const double start = thread_cpu_seconds();
+      last = deform::fem_step<3>(data, s, targets, options, &solver);
+      seconds.push_back(thread_cpu_seconds() - start);
+      newton += last.newton_iterations;
+      factorizations += last.factorizations;
+      pcg += last.pcg_iterations;
+      unconverged += last.converged ? 0 : 1;
+      stages.analysis += last.seconds.analysis;
+      stages.assembly += last.seconds.assembly;
+      stages.factorization += last.seconds.factorization;
+      stages.solve += last.seconds.solve;
+      stages.line_search += last.seconds.line_search;
+    }
+  }
+  std::vector<double> later(seconds.begin() + 1, seconds.end());
+  std::sort(later.begin(), later.end());
+  state.counters["unknowns"] = static_cast<double>(last.unknowns);
+  state.counters["nonzeros"] = static_cast<double>(last.nonzeros);
+  state.counters["steps"] = steps;
+  state.counters["s_first_step"] = seconds.front();
+  state.counters["s_median_later"] = later[later.size() / 2];
+  state.counters["s_max_later"] = later.back();
+  state.counters["s_analysis"] = stages.analysis;
+  state.counters["s_assembly"] = stages.assembly;
+  state.counters["s_factorization"] = stages.factorization;
+  state.counters["s_solve"] = stages.solve;
+  state.counters["s_line_search"] = stages.line_search;
+  state.counters["newton"] = newton;
+  state.counters["factorizations"] = factorizations;
+  state.counters["pcg"] = pcg;
+  state.counters["unconverged"] = unconverged;
+}
+
 /// Bounded biharmonic weights for 4 handles (single vertices at four corners of the box).
 template <int D>
 void BM_Deform_Bbw4(benchmark::State& state) {
@@ -138,6 +251,14 @@ BENCHMARK_TEMPLATE(BM_Deform_ArapIteration, 2)->Args({64, 1})->Args({128, 1})->U
 BENCHMARK_TEMPLATE(BM_Deform_ArapIteration, 3)->Args({12, 1})->Args({24, 1})->Args({24, 2})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 BENCHMARK_TEMPLATE(BM_Deform_FemStep, 2)->Arg(64)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_Deform_FemStep, 3)->Arg(12)->Arg(24)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_Deform_FemQuintuple)
+    ->ArgNames({"scenario", "pcg"})
+    ->Args({0, 20})
+    ->Args({1, 20})
+    ->Args({0, 0})
+    ->Args({1, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK_TEMPLATE(BM_Deform_Bbw4, 2)->Arg(64)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_TEMPLATE(BM_Deform_Bbw4, 3)->Arg(12)->Arg(24)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Deform_Bbw4Bar)->Unit(benchmark::kMillisecond)->Iterations(1)->MeasureProcessCPUTime();

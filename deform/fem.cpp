@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <Eigen/SparseCore>
 
+#include "core/parallel.h"
 #include "deform/rotation.h"
 #include "deform/sparse_cholesky.h"
 
@@ -21,7 +23,6 @@ namespace {
 /// stiffness with R held fixed (semidefinite; linear convergence, slow: about 0.75 per iteration).
 enum class NewtonMatrix { exact, projected, fixed_rotation };
 
-template <int D>
 struct HessianPattern {
   Eigen::SparseMatrix<double> matrix;  ///< both triangles; values rewritten every Newton iteration
   std::vector<int> element_slots;      ///< per element D(D+1) x D(D+1) indices into matrix's values
@@ -43,11 +44,19 @@ struct Potential {
     return corners.transpose() * data.geometry[static_cast<std::size_t>(e)].gradients;
   }
 
-  [[nodiscard]] double value(const Eigen::MatrixXd& x) const {
+  /// Per element the rotation of its deformation gradient (closest_rotation), which value()
+  /// computes and gradient_and_hessian() at the same positions reuses: half the cost of an
+  /// assembly after an accepted line-search trial.
+  using Rotations = std::vector<Eigen::Matrix<double, D, D>>;
+
+  /// The potential at `x`; `rotations` (if given) receives each element's rotation.
+  [[nodiscard]] double value(const Eigen::MatrixXd& x, Rotations* rotations = nullptr) const {
     const double mu = options.material.mu(), lambda = options.material.lambda();
     double total = 0.0;
+    if (rotations != nullptr) rotations->resize(static_cast<std::size_t>(data.rest.element_count()));
     for (Eigen::Index e = 0; e < data.rest.element_count(); ++e) {
       const Eigen::Matrix<double, D, D> f = gradient_of(x, e), r = closest_rotation<D>(f);
+      if (rotations != nullptr) (*rotations)[static_cast<std::size_t>(e)] = r;
       const double trace = (r.transpose() * f).trace() - D;
       total += data.geometry[static_cast<std::size_t>(e)].volume * (mu * (f - r).squaredNorm() + 0.5 * lambda * trace * trace);
     }
@@ -65,9 +74,10 @@ struct Potential {
 
   /// Gradient (n x D) and, when `pattern` is given, the Newton matrix `hessian` on the free
   /// degrees of freedom written into pattern->matrix's values (its sparsity is fixed per mesh, so
-  /// the factorization's symbolic analysis is done once).
-  void gradient_and_hessian(const Eigen::MatrixXd& x, HessianPattern<D>* pattern, NewtonMatrix hessian,
-                            Eigen::MatrixXd& gradient) const {
+  /// the factorization's symbolic analysis is done once). `rotations`: value()'s at these `x`, or
+  /// nullptr.
+  void gradient_and_hessian(const Eigen::MatrixXd& x, HessianPattern* pattern, NewtonMatrix hessian,
+                            Eigen::MatrixXd& gradient, const Rotations* rotations = nullptr) const {
     constexpr int N = D * (D + 1);
     using Square = Eigen::Matrix<double, D, D>;
     const double mu = options.material.mu(), lambda = options.material.lambda();
@@ -82,16 +92,36 @@ struct Potential {
       const Square f = gradient_of(x, e);
       // Signed SVD F = U diag(s) V^T with det(U V^T) = +1 (the last singular value negated for
       // an inverted F): R = U V^T is closest_rotation(F), S = V diag(s) V^T, tr S = sum s.
-      const Eigen::JacobiSVD<Square> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
-      Square u = svd.matrixU();
-      const Square v = svd.matrixV();
-      Eigen::Matrix<double, D, 1> s = svd.singularValues();
-      if ((u * v.transpose()).determinant() < 0.0) {
-        u.col(D - 1) *= -1.0;
-        s[D - 1] *= -1.0;
+      // For det F > 0 (all but inverted elements) from the polar decomposition F = R S (the
+      // scaled Newton iteration of closest_rotation, as the potential's value uses) and the
+      // closed-form eigenvectors of the symmetric S: 2-3 times cheaper than the Jacobi SVD,
+      // which was half of the assembly. The stress needs only R and tr S (exact to round-off);
+      // the closed form's lesser accuracy on clustered s touches only the Newton matrix, whose
+      // twist terms of equal s_k + s_l sum to the same matrix for any basis of the cluster.
+      Square u, v, r;
+      Eigen::Matrix<double, D, 1> s;
+      double trace = 0.0;
+      if (f.determinant() > 0.0) {
+        r = rotations != nullptr ? (*rotations)[static_cast<std::size_t>(e)] : closest_rotation<D>(f);
+        const Square rf = r.transpose() * f;
+        Eigen::SelfAdjointEigenSolver<Square> eigen;
+        eigen.computeDirect(0.5 * (rf + rf.transpose()));
+        v = eigen.eigenvectors();
+        s = eigen.eigenvalues();
+        u = r * v;
+        trace = rf.trace() - D;
+      } else {
+        const Eigen::JacobiSVD<Square> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        u = svd.matrixU();
+        v = svd.matrixV();
+        s = svd.singularValues();
+        if ((u * v.transpose()).determinant() < 0.0) {
+          u.col(D - 1) *= -1.0;
+          s[D - 1] *= -1.0;
+        }
+        r = u * v.transpose();
+        trace = s.sum() - D;
       }
-      const Square r = u * v.transpose();
-      const double trace = s.sum() - D;
       const Square stress = 2.0 * mu * (f - r) + lambda * trace * r;  // first Piola-Kirchhoff
       const Eigen::Matrix<double, D, D + 1> forces = g.volume * stress * g.gradients.transpose();  // column i: dE/dx_i
       for (int i = 0; i < D + 1; ++i) gradient.row(data.rest.elements(e, i)) += forces.col(i).transpose();
@@ -153,51 +183,164 @@ struct Potential {
 };
 
 /// The sparsity of the Newton matrix on the free degrees of freedom (`dof` maps vertex * D +
-/// axis to a free index, or -1), and where each element's and vertex's entries go in its value
-/// array (column-major within the element's D(D+1) square; -1 for a fixed row or column), so
-/// that assembly writes values in place, in element order (deterministic), without triplets.
+/// axis to a free index, or -1; a vertex is fixed in all its axes or none), and where each
+/// element's and vertex's entries go in its value array (column-major within the element's
+/// D(D+1) square; -1 for a fixed row or column), so that assembly writes values in place, in
+/// element order (deterministic), without triplets. Built from the vertex graph, D x D blocks
+/// per neighbouring pair: the triplets of every element entry (12 M on the quintuple torus)
+/// and a search per entry took 2 s, more than a factorization.
 template <int D>
-HessianPattern<D> hessian_pattern(const SimplexMesh<D>& mesh, const std::vector<Eigen::Index>& dof, Eigen::Index free_count) {
+HessianPattern hessian_pattern(const SimplexMesh<D>& mesh, const std::vector<Eigen::Index>& dof, Eigen::Index free_count) {
   constexpr int N = D * (D + 1);
-  const auto global = [&](Eigen::Index e, int local) {
-    return dof[static_cast<std::size_t>(mesh.elements(e, local / D) * D + local % D)];
-  };
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<std::size_t>(mesh.element_count()) * N * N + static_cast<std::size_t>(free_count) * D);
+  const Eigen::Index n = mesh.vertex_count();
+  const auto free_vertex = [&](Eigen::Index v) { return dof[static_cast<std::size_t>(v * D)] >= 0; };
+  // Each vertex's neighbours (itself included), sorted: `first` / `neighbours` in CSR form.
+  std::vector<std::vector<int>> lists(static_cast<std::size_t>(n));
+  for (Eigen::Index v = 0; v < n; ++v) lists[static_cast<std::size_t>(v)].push_back(static_cast<int>(v));
   for (Eigen::Index e = 0; e < mesh.element_count(); ++e)
-    for (int p = 0; p < N; ++p)
-      for (int q = 0; q < N; ++q)
-        if (global(e, p) >= 0 && global(e, q) >= 0) triplets.emplace_back(global(e, p), global(e, q), 1.0);
-  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v)
-    for (int a = 0; a < D; ++a)
-      for (int b = 0; b < D; ++b) {
-        const Eigen::Index row = dof[static_cast<std::size_t>(v * D + a)], col = dof[static_cast<std::size_t>(v * D + b)];
-        if (row >= 0 && col >= 0) triplets.emplace_back(row, col, 1.0);
-      }
-  HessianPattern<D> pattern;
-  pattern.matrix.resize(free_count, free_count);
-  pattern.matrix.setFromTriplets(triplets.begin(), triplets.end());
-  pattern.matrix.makeCompressed();
-  const auto slot = [&](Eigen::Index row, Eigen::Index col) -> int {
-    if (row < 0 || col < 0) return -1;
-    const int* begin = pattern.matrix.innerIndexPtr() + pattern.matrix.outerIndexPtr()[col];
-    const int* end = pattern.matrix.innerIndexPtr() + pattern.matrix.outerIndexPtr()[col + 1];
-    return static_cast<int>(std::lower_bound(begin, end, static_cast<int>(row)) - pattern.matrix.innerIndexPtr());
+    for (int i = 0; i < D + 1; ++i)
+      for (int j = 0; j < D + 1; ++j)
+        if (i != j) lists[static_cast<std::size_t>(mesh.elements(e, i))].push_back(mesh.elements(e, j));
+  std::vector<int> first(static_cast<std::size_t>(n) + 1, 0), neighbours, offset;  // offset: free dofs of the neighbours before
+  for (Eigen::Index v = 0; v < n; ++v) {
+    std::vector<int>& list = lists[static_cast<std::size_t>(v)];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    int free_before = 0;
+    for (int w : list) {
+      neighbours.push_back(w);
+      offset.push_back(free_before);
+      if (free_vertex(w)) free_before += D;
+    }
+    first[static_cast<std::size_t>(v) + 1] = static_cast<int>(neighbours.size());
+    std::vector<int>().swap(list);
+  }
+  // Columns in free-dof order (vertex-major): column (v, a) holds the free rows of v's neighbours.
+  std::vector<int> outer(static_cast<std::size_t>(free_count) + 1, 0), inner;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    if (!free_vertex(v)) continue;
+    for (int a = 0; a < D; ++a) {
+      const Eigen::Index col = dof[static_cast<std::size_t>(v * D + a)];
+      for (int k = first[static_cast<std::size_t>(v)]; k < first[static_cast<std::size_t>(v) + 1]; ++k)
+        if (free_vertex(neighbours[static_cast<std::size_t>(k)]))
+          for (int b = 0; b < D; ++b) inner.push_back(static_cast<int>(dof[static_cast<std::size_t>(neighbours[static_cast<std::size_t>(k)] * D + b)]));
+      outer[static_cast<std::size_t>(col) + 1] = static_cast<int>(inner.size());
+    }
+  }
+  HessianPattern pattern;
+  const std::vector<double> zeros(inner.size(), 0.0);
+  pattern.matrix = Eigen::Map<const Eigen::SparseMatrix<double>>(free_count, free_count, static_cast<Eigen::Index>(inner.size()),
+                                                                 outer.data(), inner.data(), zeros.data());
+  // Where row vertex w's block starts in column vertex v's list (an index into `neighbours`),
+  // and the value index of entry (w, axis b; v, axis a); -1 for a fixed vertex.
+  const auto block = [&](Eigen::Index w, Eigen::Index v) -> std::ptrdiff_t {
+    if (!free_vertex(w) || !free_vertex(v)) return -1;
+    const int* begin = neighbours.data() + first[static_cast<std::size_t>(v)];
+    const int* end = neighbours.data() + first[static_cast<std::size_t>(v) + 1];
+    return std::lower_bound(begin, end, static_cast<int>(w)) - neighbours.data();
+  };
+  const auto slot = [&](std::ptrdiff_t k, int b, Eigen::Index v, int a) -> int {
+    if (k < 0) return -1;
+    return outer[static_cast<std::size_t>(dof[static_cast<std::size_t>(v * D + a)])] + offset[static_cast<std::size_t>(k)] + b;
   };
   pattern.element_slots.resize(static_cast<std::size_t>(mesh.element_count()) * N * N);
   for (Eigen::Index e = 0; e < mesh.element_count(); ++e)
-    for (int q = 0; q < N * N; ++q)
-      pattern.element_slots[static_cast<std::size_t>(e) * N * N + q] = slot(global(e, q % N), global(e, q / N));
-  pattern.vertex_slots.resize(static_cast<std::size_t>(mesh.vertex_count()) * D * D);
-  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v)
-    for (int q = 0; q < D * D; ++q)
-      pattern.vertex_slots[static_cast<std::size_t>(v) * D * D + q] =
-          slot(dof[static_cast<std::size_t>(v * D + q % D)], dof[static_cast<std::size_t>(v * D + q / D)]);
+    for (int i = 0; i < D + 1; ++i)      // row vertex
+      for (int j = 0; j < D + 1; ++j) {  // column vertex
+        const std::ptrdiff_t k = block(mesh.elements(e, i), mesh.elements(e, j));
+        for (int a = 0; a < D; ++a)    // column axis
+          for (int b = 0; b < D; ++b)  // row axis
+            pattern.element_slots[static_cast<std::size_t>(e) * N * N + static_cast<std::size_t>((j * D + a) * N + i * D + b)] =
+                slot(k, b, mesh.elements(e, j), a);
+      }
+  pattern.vertex_slots.resize(static_cast<std::size_t>(n) * D * D);
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const std::ptrdiff_t k = block(v, v);
+    for (int q = 0; q < D * D; ++q) pattern.vertex_slots[static_cast<std::size_t>(v) * D * D + q] = slot(k, q % D, v, q / D);
+  }
   return pattern;
 }
 
+/// y = A p for `a` symmetric with both triangles stored (column-major): y_j = column j . p, one
+/// dot product per column, in order (serial and deterministic, whatever Eigen's threading).
+void symmetric_product(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& p, Eigen::VectorXd& y) {
+  y.resize(a.cols());
+  const int* outer = a.outerIndexPtr();
+  const int* inner = a.innerIndexPtr();
+  const double* values = a.valuePtr();
+  for (Eigen::Index j = 0; j < a.cols(); ++j) {
+    double sum = 0.0;
+    for (int k = outer[j]; k < outer[j + 1]; ++k) sum += values[k] * p[inner[k]];
+    y[j] = sum;
+  }
+}
+
+enum class PcgStatus { converged, negative_curvature, too_many_iterations };
+
+/// Conjugate gradients on a x = b preconditioned by the factor `m` of a nearby matrix, from x =
+/// 0, until |b - a x| <= tolerance |b|. Stops at a direction of non-positive curvature (a
+/// indefinite there: its Newton step may not descend) or after `max_iterations`. Every iterate is a
+/// descent direction for a positive definite a (b.x = x^T a x > 0 by the Galerkin property).
+PcgStatus preconditioned_cg(const Eigen::SparseMatrix<double>& a, const SparseCholesky& m, const Eigen::VectorXd& b,
+                            double tolerance, int max_iterations, Eigen::VectorXd& x, int& iterations) {
+  x.setZero(b.size());
+  iterations = 0;
+  const double stop = tolerance * b.norm();
+  if (b.norm() == 0.0) return PcgStatus::converged;
+  Eigen::VectorXd r = b, z = m.solve(r).col(0), p = z, q;
+  double rz = r.dot(z);
+  while (iterations < max_iterations) {
+    ++iterations;
+    symmetric_product(a, p, q);
+    const double curvature = p.dot(q);
+    if (!(curvature > 0.0)) return PcgStatus::negative_curvature;
+    const double alpha = rz / curvature;
+    x += alpha * p;
+    r -= alpha * q;
+    if (r.norm() <= stop) return PcgStatus::converged;
+    z = m.solve(r).col(0);
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  return PcgStatus::too_many_iterations;
+}
+
+/// Adds the calling thread's CPU time from construction to destruction to `seconds`.
+class StageTimer {
+ public:
+  explicit StageTimer(double& seconds) : seconds_(seconds), start_(thread_cpu_seconds()) {}
+  ~StageTimer() { seconds_ += thread_cpu_seconds() - start_; }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+ private:
+  double& seconds_;
+  double start_;
+};
+
+}  // namespace
+
+struct FemSolver::Impl {
+  // What the pattern was built for: the elements and the free-dof numbering.
+  Eigen::MatrixXi elements;
+  std::vector<Eigen::Index> dof;
+  HessianPattern pattern;
+  SparseCholesky factor;
+  bool has_factor = false;  ///< `factor` holds a successful numeric factorization (of some earlier matrix)
+  int pcg_since_factor = 0;  ///< conjugate-gradient iterations preconditioned by it so far
+};
+
+FemSolver::FemSolver() : impl_(std::make_unique<Impl>()) {}
+FemSolver::~FemSolver() = default;
+FemSolver::FemSolver(FemSolver&&) noexcept = default;
+FemSolver& FemSolver::operator=(FemSolver&&) noexcept = default;
+
+namespace {
+
 template <int D>
-FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eigen::MatrixXd& fixed_targets) {
+FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eigen::MatrixXd& fixed_targets,
+                   FemSolver::Impl& solver) {
   const FemData<D>& data = potential.data;
   const FemOptions& options = potential.options;
   FemReport report;
@@ -211,43 +354,99 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     else d = -1;
   // (the loop above numbers the free degrees of freedom in vertex-major order)
 
+  // One pattern, ordering and symbolic factorization per solver (a simulation), unless the
+  // mesh or the fixed set changed; CHOLMOD's supernodal numeric factorization when needed.
+  if (solver.dof != dof || solver.elements.rows() != data.rest.elements.rows() ||
+      solver.elements.cols() != data.rest.elements.cols() || solver.elements != data.rest.elements) {
+    const StageTimer timer(report.seconds.analysis);
+    solver.elements = data.rest.elements;
+    solver.dof = dof;
+    solver.pattern = hessian_pattern<D>(data.rest, dof, free_count);
+    solver.factor.analyze(solver.pattern.matrix, FactorUse::factor_often);
+    solver.has_factor = false;
+  }
+  HessianPattern& pattern = solver.pattern;
+  report.unknowns = free_count;
+  report.nonzeros = pattern.matrix.nonZeros();
+  const auto factorize = [&] {
+    const StageTimer timer(report.seconds.factorization);
+    ++report.factorizations;
+    solver.has_factor = solver.factor.factorize(pattern.matrix);
+    solver.pcg_since_factor = 0;
+    return solver.has_factor;
+  };
+  typename Potential<D>::Rotations rotations, trial_rotations;  // value()'s at x and at the trial
+  const auto assemble = [&](NewtonMatrix matrix, Eigen::MatrixXd& gradient) {
+    const StageTimer timer(report.seconds.assembly);
+    potential.gradient_and_hessian(x, &pattern, matrix, gradient, &rotations);
+  };
+
   Eigen::MatrixXd gradient;
-  HessianPattern<D> pattern = hessian_pattern<D>(data.rest, dof, free_count);
-  // One ordering and symbolic factorization for all iterations; CHOLMOD's supernodal numeric
-  // factorization per iteration (BENCHMARKS.md).
-  SparseCholesky factor;
-  factor.analyze(pattern.matrix, FactorUse::factor_often);
-  double objective = potential.value(x);
-  // Once a full Newton step on the exact Hessian moved no vertex by more than 1e-3 of the mean
-  // edge, the Hessian hardly changes any more: the next iterations solve with that factor again
-  // (chord steps, each gaining about as many digits as the last step was small relative to the
-  // edge) instead of a new factorization, the step's dominant cost.
-  bool reuse_factor = false;
+  double objective = 0.0;
+  {
+    const StageTimer timer(report.seconds.line_search);
+    objective = potential.value(x, &rotations);
+  }
+  double first_residual = 0.0, previous_step = 0.0;
   for (int iteration = 0; iteration < options.max_newton_iterations; ++iteration) {
     NewtonMatrix matrix = NewtonMatrix::exact;
-    potential.gradient_and_hessian(x, reuse_factor ? nullptr : &pattern, matrix, gradient);
+    assemble(matrix, gradient);
     if (!std::isfinite(objective) || !gradient.allFinite()) {  // forces or positions beyond doubles
       report.error = "the potential or its gradient is not finite (forces, displacements or the time step out of range)";
-      break;
-    }
-    // The exact Hessian first, every iteration: a failed Cholesky factorization proves it
-    // indefinite (compressed elements far from the minimum; at a minimum it is semidefinite, so
-    // the last iterations are quadratic), and this iteration uses the projected one, then, should
-    // that sum be singular, the fixed-rotation one.
-    bool factored = reuse_factor || factor.factorize(pattern.matrix);
-    while (!factored && matrix != NewtonMatrix::fixed_rotation) {
-      matrix = matrix == NewtonMatrix::exact ? NewtonMatrix::projected : NewtonMatrix::fixed_rotation;
-      potential.gradient_and_hessian(x, &pattern, matrix, gradient);
-      factored = factor.factorize(pattern.matrix);
-    }
-    if (!factored) {
-      report.error = "the Newton matrix could not be factored";
       break;
     }
     Eigen::VectorXd rhs(free_count);
     for (std::size_t i = 0; i < dof.size(); ++i)
       if (dof[i] >= 0) rhs[dof[i]] = -gradient(static_cast<Eigen::Index>(i) / D, static_cast<Eigen::Index>(i) % D);
-    const Eigen::VectorXd step = factor.solve(rhs).col(0);
+    if (iteration == 0) first_residual = rhs.norm();
+    // The accuracy asked of a preconditioned solve (the forcing term of inexact Newton,
+    // Eisenstat & Walker 1996): 0.1 far from the minimum, where a Newton step is only a
+    // direction, then the gradient's reduction so far, which keeps the convergence
+    // superlinear, down to pcg_tolerance.
+    const double forcing = std::clamp(rhs.norm() / first_residual, std::min(options.pcg_tolerance, 0.1), 0.1);
+    Eigen::VectorXd step;
+    // First conjugate gradients on the exact matrix, preconditioned by the last factorization
+    // (of this step's or an earlier step's matrix). Negative curvature proves the exact matrix
+    // indefinite (compressed elements far from the minimum; at a minimum it is semidefinite, so
+    // the last iterations use it); then the projected one, always positive semidefinite.
+    // A factor that has cost as many preconditioned iterations as max_pcg_iterations is
+    // replaced, like one on which a single solve needs that many (rent until the rent paid
+    // equals the price: on the quintuple torus a factorization costs about 20 iterations).
+    bool solved = false;
+    if (solver.has_factor && options.max_pcg_iterations > 0 && solver.pcg_since_factor < options.max_pcg_iterations) {
+      for (;;) {
+        int iterations = 0;
+        PcgStatus status = PcgStatus::too_many_iterations;
+        {
+          const StageTimer timer(report.seconds.solve);
+          status = preconditioned_cg(pattern.matrix, solver.factor, rhs, forcing, options.max_pcg_iterations, step, iterations);
+        }
+        report.pcg_iterations += iterations;
+        solver.pcg_since_factor += iterations;
+        solved = status == PcgStatus::converged;
+        if (status != PcgStatus::negative_curvature || matrix != NewtonMatrix::exact) break;
+        matrix = NewtonMatrix::projected;
+        assemble(matrix, gradient);
+      }
+    }
+    if (!solved) {
+      // The preconditioner is too far from this matrix (or there is none yet): factor it. A
+      // failed Cholesky factorization proves it indefinite, and this iteration uses the projected
+      // matrix, then, should that sum be singular, the fixed-rotation one.
+      bool factored = factorize();
+      while (!factored && matrix != NewtonMatrix::fixed_rotation) {
+        matrix = matrix == NewtonMatrix::exact ? NewtonMatrix::projected : NewtonMatrix::fixed_rotation;
+        assemble(matrix, gradient);
+        factored = factorize();
+      }
+      if (!factored) {
+        report.error = "the Newton matrix could not be factored";
+        break;
+      }
+      const StageTimer timer(report.seconds.solve);
+      step = solver.factor.solve(rhs).col(0);
+    }
+    const StageTimer timer(report.seconds.line_search);
     Eigen::MatrixXd direction = Eigen::MatrixXd::Zero(x.rows(), D);
     for (std::size_t i = 0; i < dof.size(); ++i)
       if (dof[i] >= 0) direction(static_cast<Eigen::Index>(i) / D, static_cast<Eigen::Index>(i) % D) = step[dof[i]];
@@ -262,7 +461,7 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     bool accepted = false;
     for (int halving = 0; halving < 40; ++halving, alpha *= 0.5) {
       trial = x + alpha * direction;
-      trial_value = potential.value(trial);
+      trial_value = potential.value(trial, &trial_rotations);
       if (trial_value <= objective + 1e-4 * alpha * slope + round_off) {
         accepted = true;
         break;
@@ -274,10 +473,18 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
       report.converged = direction.rowwise().norm().maxCoeff() <= 1e3 * options.step_tolerance * data.edge_length;
       break;
     }
-    reuse_factor = matrix == NewtonMatrix::exact && alpha == 1.0 && report.max_step <= 1e-3 * data.edge_length;
     x = trial;
     objective = trial_value;
-    if (report.max_step <= options.step_tolerance * data.edge_length) {
+    rotations.swap(trial_rotations);
+    // Converged when this step, or what remains after it, is below the tolerance. What
+    // remains is estimated from the contraction theta of the last two full steps: steps that
+    // keep contracting by theta sum to step theta / (1 - theta) (Deuflhard 2004, 2.1.2), and
+    // Newton's contraction only improves near the minimum. That saves the one iteration whose
+    // only purpose is to show that a quadratically small step was already small.
+    const double tolerance = options.step_tolerance * data.edge_length;
+    const double theta = alpha == 1.0 && previous_step > 0.0 ? report.max_step / previous_step : 1.0;
+    previous_step = alpha == 1.0 ? report.max_step : 0.0;
+    if (report.max_step <= tolerance || (theta < 0.5 && report.max_step * theta / (1.0 - theta) <= tolerance)) {
       report.converged = true;
       break;
     }
@@ -326,13 +533,13 @@ Eigen::MatrixXd elastic_forces(const FemData<D>& data, const Eigen::MatrixXd& po
 
 template <int D>
 FemReport fem_step(const FemData<D>& data, FemState<D>& state, const Eigen::MatrixXd& fixed_targets,
-                   const FemOptions& options) {
+                   const FemOptions& options, FemSolver* solver) {
+  FemSolver own;
   const double h = options.time_step;
   Potential<D> potential{data, options, 1.0 / (h * h), state.positions + h * state.velocities};
-  Eigen::MatrixXd x = state.positions;
   // Start from the predicted positions (free flight), the usual warm start.
-  x = potential.predicted;
-  FemReport report = minimize(potential, x, fixed_targets);
+  Eigen::MatrixXd x = potential.predicted;
+  FemReport report = minimize(potential, x, fixed_targets, (solver != nullptr ? *solver : own).impl());
   state.velocities = (x - state.positions) / h;
   state.positions = x;
   return report;
@@ -340,7 +547,7 @@ FemReport fem_step(const FemData<D>& data, FemState<D>& state, const Eigen::Matr
 
 template <int D>
 FemReport fem_static(const FemData<D>& data, Eigen::MatrixXd& positions, const Eigen::MatrixXd& fixed_targets,
-                     const FemOptions& options) {
+                     const FemOptions& options, FemSolver* solver) {
   {
     const std::vector<Eigen::Index> loose = unanchored_components(data.rest.vertex_count(), data.rest.elements, data.fixed);
     if (!loose.empty()) {
@@ -351,15 +558,18 @@ FemReport fem_static(const FemData<D>& data, Eigen::MatrixXd& positions, const E
     }
   }
   const Potential<D> potential{data, options};
-  return minimize(potential, positions, fixed_targets);
+  FemSolver own;
+  return minimize(potential, positions, fixed_targets, (solver != nullptr ? *solver : own).impl());
 }
 
 #define IMM_FEM_INSTANTIATE(D)                                                                                   \
   template FemData<D> fem_precompute<D>(const SimplexMesh<D>&, const std::vector<Eigen::Index>&, const Material&); \
   template double elastic_energy<D>(const FemData<D>&, const Eigen::MatrixXd&, const Material&);                \
   template Eigen::MatrixXd elastic_forces<D>(const FemData<D>&, const Eigen::MatrixXd&, const Material&);       \
-  template FemReport fem_step<D>(const FemData<D>&, FemState<D>&, const Eigen::MatrixXd&, const FemOptions&);    \
-  template FemReport fem_static<D>(const FemData<D>&, Eigen::MatrixXd&, const Eigen::MatrixXd&, const FemOptions&);
+  template FemReport fem_step<D>(const FemData<D>&, FemState<D>&, const Eigen::MatrixXd&, const FemOptions&,       \
+                                 FemSolver*);                                                                  \
+  template FemReport fem_static<D>(const FemData<D>&, Eigen::MatrixXd&, const Eigen::MatrixXd&, const FemOptions&, \
+                                   FemSolver*);
 IMM_FEM_INSTANTIATE(2)
 IMM_FEM_INSTANTIATE(3)
 #undef IMM_FEM_INSTANTIATE

@@ -13,9 +13,17 @@
 // is indefinite (compressed elements, far from the minimum) a failed Cholesky factorization says
 // so and the iteration uses it with each element's negative twist eigenvalues clamped to 0
 // (Smith et al. 2019), positive semidefinite: every Newton direction descends, and the line
-// search works on the true energy. The sparsity is analyzed once per step, factored per iteration.
+// search works on the true energy.
+//
+// Solving the Newton systems: the numeric Cholesky factorization is the dominant cost (0.3-0.5 s
+// for the 57k unknowns of the quintuple torus), and the Newton matrix changes slowly, between
+// Newton iterations and between time steps. So the last factorization is kept (in a FemSolver,
+// with the sparsity pattern and the symbolic analysis, across the steps of a simulation) and
+// preconditions conjugate gradients on the current exact matrix; a new factorization only when
+// that needs more than `max_pcg_iterations` or meets negative curvature (BENCHMARKS.md, "FEM").
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,8 +52,18 @@ struct FemOptions {
   double ground_offset = 0.0;
   double ground_stiffness = 1e4;
   int max_newton_iterations = 50;
-  /// Newton stops when the largest step of a vertex is below this fraction of the mean edge length.
+  /// Newton stops when the largest step of a vertex is below this fraction of the mean edge
+  /// length, or when the distance left after it, estimated from the contraction of the last two
+  /// full steps (step theta / (1 - theta), theta = step / previous step < 1/2), is.
   double step_tolerance = 1e-9;
+  /// Conjugate-gradient iterations allowed per Newton iteration, preconditioned by the last
+  /// numeric factorization, before the Newton matrix is factored anew. 0: factor every Newton
+  /// iteration and solve directly (the reference the preconditioned path is tested against).
+  int max_pcg_iterations = 20;
+  /// A preconditioned Newton step is solved to a residual of at most 0.1 |gradient|, tightened as
+  /// the gradient falls, down to pcg_tolerance |gradient|: the step is then the Newton step to
+  /// about that relative accuracy, so the step test above keeps its meaning.
+  double pcg_tolerance = 1e-4;
 };
 
 template <int D>
@@ -65,12 +83,44 @@ struct FemState {
   Eigen::MatrixXd velocities;  ///< n x D
 };
 
+/// CPU seconds (calling thread) per stage of one solve.
+struct FemSeconds {
+  double analysis = 0.0;       ///< sparsity pattern and symbolic factorization (once per FemSolver)
+  double assembly = 0.0;       ///< per-element SVDs, gradient and Newton matrix
+  double factorization = 0.0;  ///< numeric factorizations, failed ones included
+  double solve = 0.0;          ///< triangular solves and conjugate gradients
+  double line_search = 0.0;    ///< potential evaluations
+};
+
 struct FemReport {
   int newton_iterations = 0;
   bool converged = false;
   double objective = 0.0;       ///< the minimized potential at the result
   double max_step = 0.0;        ///< the last Newton step (largest vertex displacement)
   std::string error;            ///< non-empty: not solved (a singular static problem)
+  int factorizations = 0;       ///< numeric factorizations (failed ones, of indefinite matrices, included)
+  int pcg_iterations = 0;       ///< preconditioned conjugate-gradient iterations, all Newton iterations
+  Eigen::Index unknowns = 0;    ///< the Newton system's size (free degrees of freedom)
+  Eigen::Index nonzeros = 0;    ///< its stored entries (both triangles)
+  FemSeconds seconds;
+};
+
+/// What consecutive solves on one FemData keep (fem_step / fem_static): the Newton matrix's
+/// sparsity pattern, its symbolic analysis and the last numeric factorization, the
+/// preconditioner of later Newton systems. Given to every step of a simulation, it saves the
+/// analysis and most factorizations; a solver given a different mesh or fixed set starts over,
+/// so it only ever changes the cost and the round-off, not what a step converges to.
+class FemSolver {
+ public:
+  FemSolver();
+  ~FemSolver();
+  FemSolver(FemSolver&&) noexcept;
+  FemSolver& operator=(FemSolver&&) noexcept;
+  struct Impl;  ///< deform/fem.cpp's
+  [[nodiscard]] Impl& impl() { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
 };
 
 /// @pre rest elements positively oriented (else `error`).
@@ -88,13 +138,14 @@ Eigen::MatrixXd elastic_forces(const FemData<D>& data, const Eigen::MatrixXd& po
 /// One implicit Euler step of length options.time_step: the fixed vertices go to
 /// `fixed_targets` (|fixed| x D, in `fixed` order), the others minimize
 /// 1/(2h^2) |x - x_n - h v_n|_M^2 + E(x) - m g.x + ground penalty; velocities = (x - x_n)/h.
+/// `solver`: kept between the steps of one simulation (nullptr: a fresh one for this step).
 template <int D>
 FemReport fem_step(const FemData<D>& data, FemState<D>& state, const Eigen::MatrixXd& fixed_targets,
-                   const FemOptions& options);
+                   const FemOptions& options, FemSolver* solver = nullptr);
 
 /// Static equilibrium under the fixed targets, gravity and ground (no inertia), from `positions`.
 template <int D>
 FemReport fem_static(const FemData<D>& data, Eigen::MatrixXd& positions, const Eigen::MatrixXd& fixed_targets,
-                     const FemOptions& options);
+                     const FemOptions& options, FemSolver* solver = nullptr);
 
 }  // namespace imm::deform

@@ -11,9 +11,9 @@
 
 namespace imm::deform {
 
-/// How a factor will be used: factored once and solved with many times (ARAP, the FEM
-/// preconditioner: CHOLMOD's simplicial factor, whose triangular solves are the fastest), or
-/// factored often (the active sets of the weights: CHOLMOD's supernodal factorization).
+/// How a factor will be used: factored once and solved with many times (ARAP: CHOLMOD's
+/// simplicial factor, whose triangular solves are the fastest), or factored often (the active
+/// sets of the weights, the FEM Newton matrices: CHOLMOD's supernodal factorization).
 enum class FactorUse { solve_often, factor_often };
 
 class SparseCholesky {

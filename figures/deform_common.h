@@ -144,8 +144,9 @@ inline Dropped drop(const deform::SimplexMesh<3>& mesh, const std::vector<deform
   if (!data.ok()) throw std::runtime_error("FEM precomputation: " + data.error);
   deform::FemState<3> state{mesh.vertices, Eigen::MatrixXd::Zero(mesh.vertex_count(), 3)};
   const Eigen::MatrixXd targets = mesh.vertices(handles, Eigen::all);
+  deform::FemSolver solver;
   for (int step = 1; step <= steps; ++step) {
-    const deform::FemReport r = deform::fem_step<3>(data, state, targets, options);
+    const deform::FemReport r = deform::fem_step<3>(data, state, targets, options, &solver);
     if (!r.error.empty()) throw std::runtime_error("FEM step: " + r.error);
     d.newton_iterations += r.newton_iterations;
     d.unconverged += r.converged ? 0 : 1;

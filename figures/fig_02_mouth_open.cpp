@@ -75,6 +75,7 @@ Opened open_mouth(const deform::SimplexMesh<3>& mesh, const std::vector<deform::
   options.step_tolerance = 1e-4;  // 1e-4 of an edge: far below what a picture or the facts resolve
   deform::FemState<3> state{mesh.vertices, Eigen::MatrixXd::Zero(mesh.vertex_count(), 3)};
   Eigen::MatrixXd targets(static_cast<Eigen::Index>(handles.size()), 3);
+  deform::FemSolver solver;
   for (int step = 1; step <= swing_steps + settle_steps; ++step) {
     const double t = std::min(1.0, static_cast<double>(step) / swing_steps);
     const double a = angle * (0.5 - 0.5 * std::cos(std::numbers::pi * t));  // eased: starts and stops at rest
@@ -82,7 +83,7 @@ Opened open_mouth(const deform::SimplexMesh<3>& mesh, const std::vector<deform::
       const Eigen::RowVector3d rest = mesh.vertices.row(handles[k]);
       targets.row(static_cast<Eigen::Index>(k)) = is_driven.at(handles[k]) ? swung(rest, a) : rest;
     }
-    const deform::FemReport r = deform::fem_step<3>(data, state, targets, options);
+    const deform::FemReport r = deform::fem_step<3>(data, state, targets, options, &solver);
     if (!r.error.empty()) throw std::runtime_error("FEM step: " + r.error);
     o.newton_iterations += r.newton_iterations;
     o.unconverged += r.converged ? 0 : 1;
