@@ -281,6 +281,8 @@ enum class PcgStatus { converged, negative_curvature, too_many_iterations };
 /// 0, until |b - a x| <= tolerance |b|. Stops at a direction of non-positive curvature (a
 /// indefinite there: its Newton step may not descend) or after `max_iterations`. Every iterate is a
 /// descent direction for a positive definite a (b.x = x^T a x > 0 by the Galerkin property).
+/// Written here rather than with Eigen's ConjugateGradient, which divides by a non-positive
+/// curvature without saying so: that signal is what switches the step to the projected matrix.
 PcgStatus preconditioned_cg(const Eigen::SparseMatrix<double>& a, const SparseCholesky& m, const Eigen::VectorXd& b,
                             double tolerance, int max_iterations, Eigen::VectorXd& x, int& iterations) {
   x.setZero(b.size());
