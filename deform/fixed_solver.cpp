@@ -4,7 +4,8 @@
 
 namespace imm::deform {
 
-bool FixedSolver::compute(const Eigen::SparseMatrix<double>& a, const std::vector<Eigen::Index>& known, FactorUse use) {
+bool FixedSolver::compute(const Eigen::SparseMatrix<double>& a, const std::vector<Eigen::Index>& known, FactorUse use,
+                          const std::vector<Eigen::Index>& order) {
   n_ = a.rows();
   known_ = known;
   free_.clear();
@@ -39,12 +40,38 @@ bool FixedSolver::compute(const Eigen::SparseMatrix<double>& a, const std::vecto
   auto factor = std::make_shared<SparseCholesky>();
   // Callers check that every connected part has a known variable (a semidefinite free block
   // otherwise); here only a matrix that is not positive definite is refused.
-  if (!factor->compute(a_ff, use)) {
+  bool ok = false;
+  if (order.empty()) {
+    ok = factor->compute(a_ff, use);
+  } else {
+    // The free indices in `order`'s order, then the free variables it does not list.
+    std::vector<Eigen::Index> free_order;
+    free_order.reserve(free_.size());
+    std::vector<char> placed(free_.size(), 0);
+    for (Eigen::Index v : order) {
+      const Eigen::Index i = slot[static_cast<std::size_t>(v)];
+      if (i < 0 || placed[static_cast<std::size_t>(i)]) continue;
+      placed[static_cast<std::size_t>(i)] = 1;
+      free_order.push_back(i);
+    }
+    for (std::size_t i = 0; i < free_.size(); ++i)
+      if (!placed[i]) free_order.push_back(static_cast<Eigen::Index>(i));
+    ok = factor->compute(a_ff, use, free_order);
+  }
+  if (!ok) {
     error_ = "the system is not positive definite on the free variables";
     return false;
   }
   factor_ = std::move(factor);
   return true;
+}
+
+std::vector<Eigen::Index> FixedSolver::ordering() const {
+  std::vector<Eigen::Index> order;
+  if (!factor_) return order;
+  order = factor_->ordering();
+  for (Eigen::Index& i : order) i = free_[static_cast<std::size_t>(i)];
+  return order;
 }
 
 Eigen::MatrixXd FixedSolver::solve(const Eigen::MatrixXd& rhs, const Eigen::MatrixXd& known_values) const {

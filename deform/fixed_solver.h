@@ -20,8 +20,11 @@ class FixedSolver {
   /// Factors the free block of `a` (n x n). `known` lists the fixed variables (any order, no
   /// duplicates). Returns false (and `error()` says why) when A_ff is not positive definite,
   /// e.g. a connected part of the mesh without a known variable.
+  /// `order` (optional): a fill-reducing elimination order of variables of `a`, e.g. the
+  /// ordering() of a solver of the same `a` with fewer known variables; the free block is then
+  /// factored in that order (free variables it lacks last) instead of searching for one.
   bool compute(const Eigen::SparseMatrix<double>& a, const std::vector<Eigen::Index>& known,
-               FactorUse use = FactorUse::solve_often);
+               FactorUse use = FactorUse::solve_often, const std::vector<Eigen::Index>& order = {});
 
   /// The full solution (n x c): `known_values` (|known| x c, in `known` order) on the known rows,
   /// the minimizer on the free rows. `rhs` is n x c (its known rows are ignored).
@@ -31,6 +34,9 @@ class FixedSolver {
   [[nodiscard]] Eigen::Index free_count() const { return static_cast<Eigen::Index>(free_.size()); }
   [[nodiscard]] const std::vector<Eigen::Index>& known() const { return known_; }
   [[nodiscard]] const std::vector<Eigen::Index>& free() const { return free_; }
+  /// The free variables (ids of `a`) in the order the factor eliminates them; empty when the
+  /// backend does not say (SparseCholesky::ordering) or nothing is free.
+  [[nodiscard]] std::vector<Eigen::Index> ordering() const;
 
  private:
   Eigen::Index n_ = 0;

@@ -9,8 +9,17 @@
 namespace imm::deform {
 
 #ifdef IMM_HAVE_CHOLMOD
+/// Eigen's wrapper, opened up for the permutation CHOLMOD chose (its factor is a protected member).
+class CholmodFactor : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> {
+ public:
+  [[nodiscard]] const cholmod_factor* raw() const { return m_cholmodFactor; }
+};
+
 struct SparseCholesky::Impl {
-  Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
+  CholmodFactor factor;
+  /// Non-empty: the factor is of P a P^T (the caller's ordering), solves permute around it.
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> given;
+  std::vector<Eigen::Index> given_order;
 };
 
 bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse use) {
@@ -19,6 +28,40 @@ bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse use
   impl_->factor.setMode(use == FactorUse::solve_often ? Eigen::CholmodSimplicialLLt : Eigen::CholmodSupernodalLLt);
   impl_->factor.compute(a);
   return impl_->factor.info() == Eigen::Success;
+}
+
+bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse use, const std::vector<Eigen::Index>& ordering) {
+  impl_ = std::make_unique<Impl>();
+  impl_->factor.cholmod().print = 0;
+  // The natural ordering of the permuted matrix, no search. CHOLMOD still postorders its
+  // elimination tree (a permutation that changes no fill, for the supernodes).
+  impl_->factor.cholmod().nmethods = 1;
+  impl_->factor.cholmod().method[0].ordering = CHOLMOD_NATURAL;
+  impl_->factor.setMode(use == FactorUse::solve_often ? Eigen::CholmodSimplicialLLt : Eigen::CholmodSupernodalLLt);
+  impl_->given.resize(static_cast<Eigen::Index>(ordering.size()));
+  for (std::size_t i = 0; i < ordering.size(); ++i) impl_->given.indices()[ordering[i]] = static_cast<int>(i);
+  impl_->given_order = ordering;
+  Eigen::SparseMatrix<double> permuted;
+  permuted = a.twistedBy(impl_->given);
+  impl_->factor.compute(permuted);
+  return impl_->factor.info() == Eigen::Success;
+}
+
+std::vector<Eigen::Index> SparseCholesky::ordering() const {
+  const cholmod_factor* l = impl_->factor.raw();
+  std::vector<Eigen::Index> order;
+  if (l == nullptr || l->Perm == nullptr) return order;
+  const int* perm = static_cast<const int*>(l->Perm);
+  order.reserve(l->n);
+  for (std::size_t i = 0; i < l->n; ++i)
+    order.push_back(impl_->given_order.empty() ? perm[i] : impl_->given_order[static_cast<std::size_t>(perm[i])]);
+  return order;
+}
+
+Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
+  if (impl_->given_order.empty()) return impl_->factor.solve(b);
+  const Eigen::MatrixXd permuted = impl_->given * b;
+  return impl_->given.inverse() * Eigen::MatrixXd(impl_->factor.solve(permuted));
 }
 
 void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& pattern, FactorUse use) {
@@ -56,6 +99,12 @@ bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& a) {
   return impl_->factor.info() == Eigen::Success && (a.rows() == 0 || impl_->factor.vectorD().minCoeff() > 0.0);
 }
 
+bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse use, const std::vector<Eigen::Index>& /*ordering*/) {
+  return compute(a, use);
+}
+
+std::vector<Eigen::Index> SparseCholesky::ordering() const { return {}; }
+
 const char* SparseCholesky::backend() { return "Eigen SimplicialLDLT"; }
 #endif
 
@@ -63,7 +112,5 @@ SparseCholesky::SparseCholesky() = default;
 SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
-
-Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const { return impl_->factor.solve(b); }
 
 }  // namespace imm::deform

@@ -48,8 +48,12 @@ WeightsResult bounded_biharmonic_weights(const SimplexMesh<D>& mesh, const std::
   const double q_scale = q.diagonal().cwiseAbs().maxCoeff();
 
   // Warm start: the unconstrained biharmonic weights of every handle, one factorization and one
-  // solve with a column per handle. Their bound violations are the first active sets.
+  // solve with a column per handle. Their bound violations are the first active sets. Its
+  // fill-reducing ordering (of every non-handle vertex) is kept for the rounds: each round's
+  // free block is a subset of these rows, and the ordering search (AMD, then METIS) would
+  // otherwise cost a fifth of every round (BENCHMARKS.md, "BBW").
   Eigen::MatrixXd unconstrained;
+  std::vector<Eigen::Index> order;
   {
     FixedSolver solver;
     if (!solver.compute(q, all, FactorUse::factor_often)) {
@@ -59,6 +63,7 @@ WeightsResult bounded_biharmonic_weights(const SimplexMesh<D>& mesh, const std::
     Eigen::MatrixXd values = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(all.size()), static_cast<Eigen::Index>(handles.size()));
     for (std::size_t i = 0; i < all.size(); ++i) values(static_cast<Eigen::Index>(i), handle_of[static_cast<std::size_t>(all[i])]) = 1.0;
     unconstrained = solver.solve(zero_rhs, values);
+    order = solver.ordering();
   }
 
   result.weights.resize(n, static_cast<Eigen::Index>(handles.size()));
@@ -66,70 +71,66 @@ WeightsResult bounded_biharmonic_weights(const SimplexMesh<D>& mesh, const std::
     // Active set: 0 = free, -1 = held at 0, +1 = held at 1 (handles are always known).
     std::vector<signed char> active(static_cast<std::size_t>(n), 0);
     Eigen::VectorXd w = unconstrained.col(static_cast<Eigen::Index>(h));
-    int iteration = 0;
-    for (; iteration < options.max_active_set_iterations; ++iteration) {
-      // Add every violated bound of the last solution (the first one: the warm start).
-      bool added = false;
-      for (Eigen::Index v = 0; v < n; ++v) {
-        if (handle_of[static_cast<std::size_t>(v)] >= 0 || active[static_cast<std::size_t>(v)] != 0) continue;
-        if (w[v] < -kRoundOff) active[static_cast<std::size_t>(v)] = -1, added = true;
-        else if (w[v] > 1.0 + kRoundOff) active[static_cast<std::size_t>(v)] = 1, added = true;
-      }
-      if (iteration > 0 || added) {
-        std::vector<Eigen::Index> known = all;
-        for (Eigen::Index v = 0; v < n; ++v)
-          if (active[static_cast<std::size_t>(v)] != 0) known.push_back(v);
-        Eigen::MatrixXd values(static_cast<Eigen::Index>(known.size()), 1);
-        for (std::size_t i = 0; i < known.size(); ++i) {
-          const Eigen::Index v = known[i];
-          const int owner = handle_of[static_cast<std::size_t>(v)];
-          values(static_cast<Eigen::Index>(i), 0) =
-              owner >= 0 ? (owner == static_cast<int>(h) ? 1.0 : 0.0) : (active[static_cast<std::size_t>(v)] > 0 ? 1.0 : 0.0);
-        }
-        FixedSolver solver;
-        if (!solver.compute(q, known, FactorUse::factor_often)) {
-          result.error = solver.error();
-          return result;
-        }
-        w = solver.solve(zero_rhs.leftCols(1), values).col(0);
-      }  // else: nothing held, and the warm start already is the solution with nothing held
-      bool violated = false;
-      for (Eigen::Index v = 0; v < n && !violated; ++v)
-        violated = handle_of[static_cast<std::size_t>(v)] < 0 && active[static_cast<std::size_t>(v)] == 0 &&
-                   (w[v] < -kRoundOff || w[v] > 1.0 + kRoundOff);
-      if (violated) continue;  // added at the top of the next iteration
-      // Feasible: release the held variables whose multiplier has the wrong sign (KKT: (Q w)_v
-      // >= 0 at a lower bound, <= 0 at an upper one); multipliers below round-off of Q's scale
-      // are zero. All of them at once (libigl's active_set): one factorization per round
-      // instead of one per released variable. After kBulkRounds rounds only the most wrong one
-      // is released, the classic rule that cannot cycle. (The rounds shrink an over-held set by
-      // its frontier: the unconstrained solution violates the bounds on more vertices than the
-      // minimizer holds, and only the frontier has wrong-signed multipliers.)
-      constexpr int kBulkRounds = 100;
+    int rounds = 0;  // solutions of held sets (factorizations) after the warm start
+    for (;;) {
+      // The KKT conditions of the last solution w (the minimizer with the current set held):
+      // bounds violated by free variables, and held variables whose multiplier has the wrong
+      // sign ((Q w)_v >= 0 at a lower bound, <= 0 at an upper one); multipliers below round-off
+      // of Q's scale are zero. Neither: w is the minimizer.
+      std::vector<Eigen::Index> violated, wrong;
       const Eigen::VectorXd gradient = q * w;
       Eigen::Index worst = -1;
       double worst_value = kRoundOff * q_scale;
-      std::vector<Eigen::Index> wrong;
       for (Eigen::Index v = 0; v < n; ++v) {
+        if (handle_of[static_cast<std::size_t>(v)] >= 0) continue;
         const signed char a = active[static_cast<std::size_t>(v)];
-        const double value = a < 0 ? -gradient[v] : a > 0 ? gradient[v] : 0.0;
+        if (a == 0) {
+          if (w[v] < -kRoundOff || w[v] > 1.0 + kRoundOff) violated.push_back(v);
+          continue;
+        }
+        const double value = a < 0 ? -gradient[v] : gradient[v];
         if (value > kRoundOff * q_scale) wrong.push_back(v);
         if (value > worst_value) worst = v, worst_value = value;
       }
-      if (worst < 0) break;  // KKT point: the minimizer
-      if (iteration < kBulkRounds)
+      if (violated.empty() && wrong.empty()) break;  // KKT point: the minimizer
+      if (rounds + 1 >= options.max_active_set_iterations) {
+        result.error = "the active-set iteration for handle " + std::to_string(h) + " did not converge in " +
+                       std::to_string(options.max_active_set_iterations) + " iterations";
+        return result;
+      }
+      // Hold every violated bound and, in the first kBulkRounds rounds, release every
+      // wrong-signed multiplier in the same round (the primal-dual active-set step of
+      // Hintermueller, Ito & Kunisch 2002; libigl's active_set releases only at feasible points,
+      // which takes two rounds per release). The rounds shrink an over-held set by its frontier:
+      // the unconstrained solution violates the bounds on many more vertices than the minimizer
+      // holds (quintuple torus: 13k held at first, 4k at the end), and only the frontier has
+      // wrong-signed multipliers. After kBulkRounds rounds, the classic rule that cannot cycle:
+      // release only at a feasible point, and only the most wrong multiplier.
+      constexpr int kBulkRounds = 100;
+      for (Eigen::Index v : violated) active[static_cast<std::size_t>(v)] = w[v] < 0.0 ? -1 : 1;
+      if (rounds < kBulkRounds)
         for (Eigen::Index v : wrong) active[static_cast<std::size_t>(v)] = 0;
-      else
+      else if (violated.empty())
         active[static_cast<std::size_t>(worst)] = 0;
+      ++rounds;
+      std::vector<Eigen::Index> known = all;
+      for (Eigen::Index v = 0; v < n; ++v)
+        if (active[static_cast<std::size_t>(v)] != 0) known.push_back(v);
+      Eigen::MatrixXd values(static_cast<Eigen::Index>(known.size()), 1);
+      for (std::size_t i = 0; i < known.size(); ++i) {
+        const Eigen::Index v = known[i];
+        const int owner = handle_of[static_cast<std::size_t>(v)];
+        values(static_cast<Eigen::Index>(i), 0) =
+            owner >= 0 ? (owner == static_cast<int>(h) ? 1.0 : 0.0) : (active[static_cast<std::size_t>(v)] > 0 ? 1.0 : 0.0);
+      }
+      FixedSolver solver;
+      if (!solver.compute(q, known, FactorUse::factor_often, order)) {
+        result.error = solver.error();
+        return result;
+      }
+      w = solver.solve(zero_rhs.leftCols(1), values).col(0);
     }
-    result.active_set_iterations.push_back(iteration + 1);
-    // On convergence every free value is inside [0, 1] up to round-off (no violated bound is
-    // left) and every held one is exactly 0 or 1; the iteration cap is the only way out.
-    if (w.minCoeff() < -kRoundOff || w.maxCoeff() > 1.0 + kRoundOff) {
-      result.error = "the active-set iteration for handle " + std::to_string(h) + " did not converge in " +
-                     std::to_string(options.max_active_set_iterations) + " iterations";
-      return result;
-    }
+    result.active_set_iterations.push_back(rounds + 1);
     result.weights.col(static_cast<Eigen::Index>(h)) = w.cwiseMax(0.0).cwiseMin(1.0);  // the round-off only
   }
   const Eigen::VectorXd sums = result.weights.rowwise().sum();

@@ -17,8 +17,9 @@ struct WeightsOptions {
 
 struct WeightsResult {
   Eigen::MatrixXd weights;  ///< n x (number of handles)
-  /// Active-set rounds per handle (each but a first one that finds nothing to hold refactors the
-  /// free block; the warm start's factorization, shared by all handles, is not counted).
+  /// Active-set rounds per handle: the solutions whose KKT conditions were checked, the warm
+  /// start's included (1: the unconstrained weights already satisfy them). Every round after the
+  /// first factors the free block once; the warm start's factorization is shared by all handles.
   std::vector<int> active_set_iterations;
   std::string error;  ///< non-empty: not computed (bad handles, a part of the mesh without a handle)
   [[nodiscard]] bool ok() const { return error.empty(); }
@@ -27,8 +28,10 @@ struct WeightsResult {
 /// Bounded biharmonic weights: per handle k, minimize w^T (K M^{-1} K) w (K the stiffness
 /// matrix, M the lumped mass) with w = 1 on handle k's vertices, 0 on the other handles', and
 /// 0 <= w <= 1 elsewhere (an active-set method warm-started from the unconstrained biharmonic
-/// weights, adding every violated bound and releasing every wrong-signed multiplier per round,
-/// like libigl's active_set; each round one sparse factorization),
+/// weights, holding every violated bound and releasing every wrong-signed multiplier in the same
+/// round, a primal-dual active-set step; each round one sparse factorization, all in the warm
+/// start's fill-reducing order), until the KKT conditions hold up to round-off (bounds within
+/// 1e-10, multipliers within 1e-10 of the largest diagonal entry of K M^{-1} K),
 /// then every row divided by its sum: the partition of unity (libigl's bbw + normalize).
 /// @pre handles non-empty, disjoint vertex sets.
 template <int D>

@@ -114,6 +114,62 @@ TYPED_TEST(Weights, BoundedBiharmonicWeightsEqualAnIndependentQpSolution) {
   EXPECT_LT((r.weights - expected).cwiseAbs().maxCoeff(), 1e-7);
 }
 
+/// With two handles the weights need no normalization: 1 - w of one handle's problem is feasible
+/// for the other's, with the same objective (Q 1 = K M^{-1} K 1 = 0), so the two minimizers sum
+/// to one. The returned weights are then the QP's minimizers themselves, and their KKT conditions
+/// can be checked directly: every value in [0, 1]; the gradient Q w zero where 0 < w < 1, >= 0
+/// where w = 0 (the lower bound held), <= 0 where w = 1. A bound never held (a violated value)
+/// or held where it should have been released (a wrong-signed gradient) fails.
+TYPED_TEST(Weights, TwoHandleWeightsSatisfyTheKktConditions) {
+  constexpr int D = TypeParam::value;
+  std::array<int, D> cells{};
+  std::array<double, D> size{};
+  cells.fill(D == 2 ? 4 : 3);
+  size.fill(1.0);
+  cells[0] = D == 2 ? 24 : 12;
+  size[0] = 4.0;
+  const SimplexMesh<D> mesh = test::box_grid<D>(cells, size);
+  // Handle 0 at the corner x = y = 0, handle 1 the vertex x = 1, y = 1: the unconstrained weight
+  // of handle 0 undershoots 0 past handle 1, over a region the minimizer holds only in part.
+  std::vector<std::vector<Eigen::Index>> handles(2);
+  for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) {
+    const double x = mesh.vertices(v, 0), y = mesh.vertices(v, 1), rest = mesh.vertices.row(v).tail(D - 2).sum();
+    if (x == 0.0 && y == 0.0 && rest == 0.0) handles[0].push_back(v);
+    if (x == 1.0 && y == 1.0 && rest == 0.0) handles[1].push_back(v);
+  }
+  ASSERT_EQ(handles[0].size(), 1u);
+  ASSERT_EQ(handles[1].size(), 1u);
+  const WeightsResult r = bounded_biharmonic_weights<D>(mesh, handles);
+  ASSERT_TRUE(r.ok()) << r.error;
+  const Eigen::SparseMatrix<double> k = stiffness_matrix<D>(mesh);
+  const Eigen::VectorXd mass = lumped_mass<D>(mesh);
+  const Eigen::SparseMatrix<double> q = Eigen::SparseMatrix<double>(k * mass.cwiseInverse().asDiagonal() * k);
+  const double tolerance = 1e-9 * q.diagonal().maxCoeff();
+  int at_zero = 0, at_one = 0;
+  for (int h = 0; h < 2; ++h) {
+    const Eigen::VectorXd w = r.weights.col(h);
+    const Eigen::VectorXd gradient = q * w;
+    for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) {
+      if (v == handles[0][0] || v == handles[1][0]) continue;
+      ASSERT_GE(w[v], 0.0);
+      ASSERT_LE(w[v], 1.0);
+      if (w[v] == 0.0) {
+        ++at_zero;
+        EXPECT_GE(gradient[v], -tolerance) << "vertex " << v << " handle " << h;
+      } else if (w[v] == 1.0) {
+        ++at_one;
+        EXPECT_LE(gradient[v], tolerance) << "vertex " << v << " handle " << h;
+      } else {
+        EXPECT_LT(std::abs(gradient[v]), tolerance) << "vertex " << v << " handle " << h;
+      }
+    }
+  }
+  // The bounds matter: some values sit on them, after several rounds.
+  EXPECT_GT(at_zero, 0);
+  EXPECT_GT(at_one, 0);
+  EXPECT_GT(*std::max_element(r.active_set_iterations.begin(), r.active_set_iterations.end()), 2);
+}
+
 TYPED_TEST(Weights, BadHandlesAreRefused) {
   constexpr int D = TypeParam::value;
   const SimplexMesh<D> mesh = test::unit_grid<D>(2);
