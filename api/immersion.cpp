@@ -3,7 +3,6 @@
 // No algorithm here: each function is the library call the program makes for the same command.
 #include "immersion/immersion.h"
 
-#include <cctype>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -12,6 +11,7 @@
 #include "core/exit_codes.h"
 #include "core/graph_search.h"
 #include "core/parallel.h"
+#include "core/text_io.h"
 #include "core/verdicts.h"
 #include "dim2/complex2.h"
 #include "dim2/curves.h"
@@ -69,7 +69,7 @@ constexpr std::size_t kMaxDefectLines = 50;
 }
 
 [[noreturn]] void throw_no_immersion(const std::string& name, const SearchResult& r, const std::string& hint = "") {
-  throw Error(ErrorKind::NotImmersible, imm::no_immersion_message(name, r) + hint);
+  throw Error(ErrorKind::NotImmersible, imm::no_immersion_message(name, r, imm::kLibraryOptions) + hint);
 }
 
 [[noreturn]] void throw_inversion(const std::string& name, const std::string& reason) {
@@ -389,7 +389,8 @@ void check_immersion_index(const Immersions<D>& found, const MeshOptions& option
   if (!found.data_) throw Error(ErrorKind::Internal, "empty immersion::Immersions");
   if (options.immersion >= found.graphs.size()) {
     throw Error(ErrorKind::InvalidInput,
-                imm::immersion_index_message(options.immersion, name, found.graphs.size(), found.complete));
+                imm::immersion_index_message(options.immersion, name, found.graphs.size(), found.complete,
+                                              imm::kLibraryOptions));
   }
 }
 
@@ -404,6 +405,16 @@ SimplexMesh<2> mesh_immersion(const Immersions<2>& found, const MeshOptions& opt
     const std::string name = found.data_ ? found.data_->name : std::string();
     check_immersion_index(found, options, name);
     check_resolution(options.resolution, std::numeric_limits<int>::max());
+    // The 3D-only options are refused, not ignored, as the program refuses their flags for curves.
+    const MeshOptions defaults;
+    const std::pair<bool, const char*> only_3d[] = {
+        {options.surface_resolution.has_value(), "surface_resolution"},
+        {options.gap_resolution.has_value(), "gap_resolution"},
+        {options.edge_length.has_value(), "edge_length"},
+        {options.radius_edge != defaults.radius_edge, "radius_edge"},
+        {options.min_dihedral != defaults.min_dihedral, "min_dihedral"}};
+    for (const auto& [given, option] : only_3d)
+      if (given) throw Error(ErrorKind::InvalidInput, std::string(option) + " is for 3D surfaces only");
     imm::dim2::MeshOptions o;
     if (options.resolution) o.resolution = *options.resolution;
     o.background_path = options.background;
@@ -483,10 +494,10 @@ SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& opt
       graded.far_resolution = options.resolution.value_or(8);
       graded.surface_resolution = *options.surface_resolution;
       graded.gap_resolution = options.gap_resolution.value_or(0);
-      if (graded.far_resolution < 1 || graded.surface_resolution < graded.far_resolution ||
-          (graded.gap_resolution != 0 && graded.gap_resolution < graded.surface_resolution))
-        throw Error(ErrorKind::InvalidInput,
-                    "graded background: need 1 <= resolution <= surface_resolution <= gap_resolution");
+      if (std::string error =
+              imm::dim3::graded_order_error(graded, {"resolution", "surface_resolution", "gap_resolution"});
+          !error.empty())
+        throw Error(ErrorKind::InvalidInput, "graded background: " + error);
       o.graded = graded;
     }
     const imm::dim3::Immersed& im = found.data_->immersed;
@@ -514,18 +525,12 @@ SimplexMesh<3> mesh_immersion(const Immersions<3>& found, const MeshOptions& opt
 
 namespace {
 
+/// Writes atomically, creating missing parent directories as the program does.
 void write_or_throw(const std::string& path, const std::string& content) {
+  if (const imm::WriteStatus dir = imm::ensure_parent_directory(path); !dir.ok())
+    throw Error(ErrorKind::Internal, dir.error);
   const imm::WriteStatus status = imm::write_file_atomic(path, content);
   if (!status.ok()) throw Error(ErrorKind::Internal, status.error);
-}
-
-std::string lower_extension(const std::string& path) {
-  const std::size_t dot = path.find_last_of('.');
-  const std::size_t slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
 }
 
 }  // namespace
@@ -552,7 +557,7 @@ void check_mesh(const SimplexMesh<D>& mesh, const std::string& path) {
 void write_mesh(const SimplexMesh<2>& mesh, const std::string& path) {
   guarded([&] {
     check_mesh(mesh, path);
-    if (lower_extension(path) != ".mesh")
+    if (imm::text::lower_extension(path) != ".mesh")
       throw Error(ErrorKind::InvalidInput, path + ": a triangle mesh is written as .mesh");
     imm::dim2::TriangleMesh m;
     for (const auto& p : mesh.vertices) m.vertices.push_back({p[0], p[1]});
@@ -569,7 +574,7 @@ void write_mesh(const SimplexMesh<3>& mesh, const std::string& path) {
     m.vertices = mesh.vertices;
     m.tets.assign(mesh.elements.begin(), mesh.elements.end());
     m.reference = mesh.node;
-    const std::string ext = lower_extension(path);
+    const std::string ext = imm::text::lower_extension(path);
     if (ext == ".mesh") return write_or_throw(path, imm::dim3::format_medit_3d(m));
     if (ext == ".vtu") return write_or_throw(path, imm::dim3::format_vtu(m));
     if (ext == ".veg") return write_or_throw(path, imm::dim3::format_veg(m));

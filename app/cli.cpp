@@ -354,7 +354,7 @@ std::string immersion_counts(const SearchResult& r) {
 }
 
 void print_no_immersion(Session& s, const std::string& path, const SearchResult& r, const std::string& hint) {
-  s.err() << "immerse: " << no_immersion_message(path, r) << hint << '\n';
+  s.err() << "immerse: " << no_immersion_message(path, r, kProgramOptions) << hint << '\n';
 }
 
 void print_immersion_list(Session& s, const std::string& description, const SearchResult& r,
@@ -851,12 +851,10 @@ std::string parse_mesh_choice(const CommandLine& cl, bool surface, MeshChoice& c
     graded.far_resolution = choice.resolution.value_or(8);
     graded.surface_resolution = static_cast<int>(*m);
     graded.gap_resolution = static_cast<int>(cl.integer("--gap-resolution").value_or(0));
-    if (graded.surface_resolution < graded.far_resolution)
-      return "--surface-resolution " + std::to_string(graded.surface_resolution) + " is coarser than --resolution " +
-             std::to_string(graded.far_resolution);
-    if (graded.gap_resolution != 0 && graded.gap_resolution < graded.surface_resolution)
-      return "--gap-resolution " + std::to_string(graded.gap_resolution) + " is coarser than --surface-resolution " +
-             std::to_string(graded.surface_resolution);
+    if (std::string error =
+            dim3::graded_order_error(graded, {"--resolution", "--surface-resolution", "--gap-resolution"});
+        !error.empty())
+      return error;
     choice.graded = graded;
   }
   if (choice.conforming) return parse_conforming3(cl, choice.conforming3);
@@ -1088,7 +1086,7 @@ int command_mesh(Session& s, const CommandLine& cl) {
   if (r.immersions.size() <= k) {
     s.set_counts(complex_counts(*p.complex) + ", " + immersion_counts(r));
     return usage_error(env, "mesh",
-                       immersion_index_message(k, p.path, r.immersions.size(), r.complete));
+                       immersion_index_message(k, p.path, r.immersions.size(), r.complete, kProgramOptions));
   }
   dim2::MeshOptions options = choice.options2();
   options.method = method;

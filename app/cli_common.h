@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <filesystem>
 #include <functional>
 #include <limits>
 #include <map>
@@ -215,13 +214,9 @@ class Session {
   /// listing. @return false (after printing why) on failure.
   bool write(const std::string& path, const std::string& content, const std::string& what) {
     return timed("write", [&] {
-      const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-      if (!parent.empty()) {
-        const WriteStatus dir = ensure_directory(parent.string());
-        if (!dir.ok()) {
-          err() << "immerse: " << dir.error << '\n';
-          return false;
-        }
+      if (const WriteStatus dir = ensure_parent_directory(path); !dir.ok()) {
+        err() << "immerse: " << dir.error << '\n';
+        return false;
       }
       // The whole command is bounded (issue 13): nothing is written after the --time-limit
       // deadline, nor beyond the output budget (--max-output).

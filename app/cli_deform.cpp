@@ -371,7 +371,7 @@ int no_immersion(Session& s, const std::string& command, const std::string& path
   // Immersible, with fewer immersions than --immersion K asks for: the usage error of `mesh` (it
   // said "has no immersion to mesh (immersible)", exit 3).
   if (r.status == ImmersionStatus::Immersible)
-    return usage_error(s.env(), command, immersion_index_message(k, path, r.immersions.size(), r.complete));
+    return usage_error(s.env(), command, immersion_index_message(k, path, r.immersions.size(), r.complete, kProgramOptions));
   s.err() << "immerse " << command << ": '" << path << "' has no immersion to mesh (" << to_string(r.status)
           << "); 'immerse immersions' explains why\n";
   return kExitNotImmersible;

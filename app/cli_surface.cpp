@@ -639,7 +639,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
   if (r.immersions.size() <= k) {
     s.set_counts(complex_counts(complex) + ", " + immersion_counts(r));
     return usage_error(s.env(), "mesh",
-                       immersion_index_message(k, p.path, r.immersions.size(), r.complete));
+                       immersion_index_message(k, p.path, r.immersions.size(), r.complete, kProgramOptions));
   }
   dim3::MeshOptions mesh_options = options;
   if (s.show_progress()) mesh_options.progress = [&s](const std::string& m) { s.err() << "immerse: mesh: " << m << '\n'; };

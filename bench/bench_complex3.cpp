@@ -104,5 +104,28 @@ void BM_Complex3_QuintupleTorus(benchmark::State& state) {
 }
 BENCHMARK(BM_Complex3_QuintupleTorus)->Args({0, 0})->Args({1, 0})->Args({0, 1})->Unit(benchmark::kMillisecond);
 
+/// Reading and validating the largest real surfaces (quintuple torus, armadillo): the parse
+/// and the exact validity checks before any complex is built.
+void BM_Surface3_ReadValidate(benchmark::State& state) {
+  const char* name = state.range(0) == 0 ? "quintupleTorus.obj" : "armadillo.obj";
+  const std::string path = std::string(IMM_SHARED_DATA_DIR) + "/3d/" + name;
+  if (!std::filesystem::exists(path)) {
+    state.SkipWithError((path + " absent").c_str());
+    return;
+  }
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const dim3::SurfaceReadResult r = dim3::read_surface(path);
+    const ValidationReport report = dim3::validate_surface(r.surface);
+    if (!r.report.ok() || !report.ok()) {
+      state.SkipWithError("not valid");
+      return;
+    }
+    triangles = r.surface.triangle_count();
+  }
+  state.SetLabel(std::string(name) + ", " + std::to_string(triangles) + " triangles");
+}
+BENCHMARK(BM_Surface3_ReadValidate)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace imm::bench

@@ -165,6 +165,11 @@ WriteStatus ensure_directory(const std::string& path) {
   return {};
 }
 
+WriteStatus ensure_parent_directory(const std::string& file) {
+  const std::filesystem::path parent = std::filesystem::path(file).parent_path();
+  return parent.empty() ? WriteStatus{} : ensure_directory(parent.string());
+}
+
 void remove_temporaries_on_signals() {
   for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) {
     struct sigaction current {};

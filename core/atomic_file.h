@@ -47,6 +47,9 @@ WriteStatus write_file_atomic(const std::string& path,
 /// exists and is not a directory, or cannot be created).
 WriteStatus ensure_directory(const std::string& path);
 
+/// ensure_directory of the directory `file` is to be written in (nothing for a bare file name).
+WriteStatus ensure_parent_directory(const std::string& file);
+
 /// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT (those whose disposition is still
 /// the default) that unlink the temporaries of writes in progress, then re-raise the signal with
 /// its default action (so the exit status still says which signal ended the process).

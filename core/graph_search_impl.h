@@ -78,6 +78,7 @@
 #include "core/graph_search.h"
 #include "core/immersion_graph.h"
 #include "core/immersion_rules.h"
+#include "core/text_io.h"
 
 namespace imm {
 namespace detail {
@@ -579,7 +580,7 @@ class ImmersionSearch {
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     if (options_.time_limit_seconds > 0 && elapsed >= options_.time_limit_seconds) {
       budget_hit_ = true;
-      budget_reason_ = "time limit " + std::to_string(options_.time_limit_seconds) + " s";
+      budget_reason_ = "time limit " + text::format_number(options_.time_limit_seconds) + " s";  // 1e-300, not 0.000000
       return Outcome::Budget;
     }
     if (options_.progress && std::chrono::duration<double>(now - last_progress_).count() >= 0.25) {

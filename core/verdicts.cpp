@@ -44,7 +44,7 @@ std::string local_folds_message(const std::string& name, const ValidationReport&
          (lines.empty() ? "" : "\n" + lines);
 }
 
-std::string no_immersion_message(const std::string& name, const SearchResult& r) {
+std::string no_immersion_message(const std::string& name, const SearchResult& r, const OptionNames& names) {
   std::string text = "'" + name + "' ";
   switch (r.status) {
     case ImmersionStatus::NotImmersible:
@@ -56,16 +56,19 @@ std::string no_immersion_message(const std::string& name, const SearchResult& r)
       // The search's message already says "no simple immersion exists" and names the cell.
       return text + "is not simply immersible: " + r.conflict.message;
     case ImmersionStatus::SearchBudgetExhausted:
-      return text + "could not be decided: " + r.conflict.message + " (raise --max-states / --time-limit)";
+      return text + "could not be decided: " + r.conflict.message + " (raise " + names.max_states + " / " +
+             names.time_limit + ")";
     case ImmersionStatus::Immersible:
       break;
   }
   return text + "is immersible";
 }
 
-std::string immersion_index_message(std::size_t k, const std::string& name, std::size_t found, bool complete) {
-  return "--immersion " + std::to_string(k) + ": '" + name + "' has only " + plural(found, "immersion") +
-         " (numbered from 0)" + (complete ? "" : "; the search stopped early, raise --max-states");
+std::string immersion_index_message(std::size_t k, const std::string& name, std::size_t found, bool complete,
+                                    const OptionNames& names) {
+  return std::string(names.immersion) + " " + std::to_string(k) + ": '" + name + "' has only " +
+         plural(found, "immersion") + " (numbered from 0)" +
+         (complete ? "" : std::string("; the search stopped early, raise ") + names.max_states);
 }
 
 }  // namespace imm

@@ -11,6 +11,16 @@
 
 namespace imm {
 
+/// How a front end names the options a verdict points to: the program's flags, or the library's
+/// parameters (the C++ API's MeshOptions/SearchOptions fields and the Python keywords).
+struct OptionNames {
+  const char* immersion;   ///< which immersion to mesh
+  const char* max_states;  ///< the search's state budget
+  const char* time_limit;  ///< the search's time budget
+};
+inline constexpr OptionNames kProgramOptions{"--immersion", "--max-states", "--time-limit"};
+inline constexpr OptionNames kLibraryOptions{"immersion", "max_states", "time_limit"};
+
 /// "1 patch", "2 patches".
 std::string plural(std::size_t n, const std::string& word, const std::string& words = "");
 
@@ -32,10 +42,13 @@ std::string not_immersible_message(const std::string& name, const std::string& r
 std::string local_folds_message(const std::string& name, const ValidationReport& folds);
 
 /// The verdict of a search without immersions: not immersible (naming the rule and what is in
-/// conflict), not simply immersible (a self-connecting cell), or undecided (budget). Exit code 3.
-std::string no_immersion_message(const std::string& name, const SearchResult& r);
+/// conflict), not simply immersible (a self-connecting cell), or undecided (budget, pointing to
+/// the budget options as `names` spells them). Exit code 3.
+std::string no_immersion_message(const std::string& name, const SearchResult& r, const OptionNames& names);
 
-/// "--immersion K: 'NAME' has only N immersions (numbered from 0)[; the search stopped early ...]".
-std::string immersion_index_message(std::size_t k, const std::string& name, std::size_t found, bool complete);
+/// "--immersion K: 'NAME' has only N immersions (numbered from 0)[; the search stopped early ...]"
+/// with the option names as `names` spells them.
+std::string immersion_index_message(std::size_t k, const std::string& name, std::size_t found, bool complete,
+                                    const OptionNames& names);
 
 }  // namespace imm

@@ -616,6 +616,18 @@ std::array<double, 2> dihedral_range(const TetMesh& mesh) {
   return {lo, hi};
 }
 
+std::string graded_order_error(const GradedOptions& options, const GradedOptionNames& names) {
+  const auto coarser = [](const char* finer, int f, const char* coarse, int c) {
+    return std::string(finer) + " " + std::to_string(f) + " is coarser than " + coarse + " " + std::to_string(c);
+  };
+  if (options.far_resolution < 1) return std::string(names.far) + " must be at least 1";
+  if (options.surface_resolution < options.far_resolution)
+    return coarser(names.surface, options.surface_resolution, names.far, options.far_resolution);
+  if (options.gap_resolution != 0 && options.gap_resolution < options.surface_resolution)
+    return coarser(names.gap, options.gap_resolution, names.surface, options.surface_resolution);
+  return {};
+}
+
 GradedBackground make_graded_background(const Surface& surface, const Box3& box, const GradedOptions& options,
                                         int attempt) {
   const auto start = std::chrono::steady_clock::now();

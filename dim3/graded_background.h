@@ -46,6 +46,18 @@ struct GradedOptions {
   std::size_t max_tets = 50'000'000;
 };
 
+/// How a front end names the three resolutions (the program's flags or the library's fields).
+struct GradedOptionNames {
+  const char* far;      ///< "--resolution"
+  const char* surface;  ///< "--surface-resolution"
+  const char* gap;      ///< "--gap-resolution"
+};
+
+/// The order the sizes keep (finer toward the surface, finer again at gaps): 1 <= far_resolution
+/// <= surface_resolution <= gap_resolution (gap 0: not given). @return empty when kept, else the
+/// first bound broken, in `names` ("--surface-resolution 4 is coarser than --resolution 8").
+std::string graded_order_error(const GradedOptions& options, const GradedOptionNames& names);
+
 struct GradedStats {
   double far_size = 0.0;      ///< cube side of the base grid
   double surface_size = 0.0;  ///< cube side at the surface

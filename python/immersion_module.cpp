@@ -128,9 +128,15 @@ immersion::SearchOptions search_options(std::size_t max, std::size_t max_states,
   return o;
 }
 
-immersion::MeshOptions mesh_options(std::size_t k, std::optional<int> resolution,
-                                    std::optional<std::string> background, bool conforming,
-                                    const std::string& method, unsigned threads) {
+/// mesh_immersion's keywords, the same for curves and surfaces (the library refuses the 3D-only
+/// ones for curves).
+template <int D>
+immersion::SimplexMesh<D> mesh_immersion_with(const immersion::Immersions<D>& found, std::size_t k,
+                                              std::optional<int> resolution, std::optional<std::string> background,
+                                              const std::string& method, unsigned threads, bool conforming,
+                                              std::optional<double> edge_length, double radius_edge,
+                                              double min_dihedral, std::optional<int> surface_resolution,
+                                              std::optional<int> gap_resolution) {
   immersion::MeshOptions o;
   o.immersion = k;
   o.resolution = resolution;
@@ -142,7 +148,12 @@ immersion::MeshOptions mesh_options(std::size_t k, std::optional<int> resolution
     invalid("method must be 'clip' or 'csg', got '" + method + "'");
   }
   o.threads = threads;
-  return o;
+  o.edge_length = edge_length;
+  o.radius_edge = radius_edge;
+  o.min_dihedral = min_dihedral;
+  o.surface_resolution = surface_resolution;
+  o.gap_resolution = gap_resolution;
+  return immersion::mesh_immersion(found, o);
 }
 
 py::dict graph_dict(const immersion::ImmersionGraph& g) {
@@ -316,33 +327,16 @@ PYBIND11_MODULE(immersion, m) {
       arg("curves"), arg("max") = 1, arg("max_states") = immersion::SearchOptions{}.max_states,
       arg("time_limit") = 0.0, release);
 
-  m.def(
-      "mesh_immersion",
-      [](const immersion::Immersions<3>& found, std::size_t immersion, std::optional<int> resolution,
-         std::optional<std::string> background, const std::string& method, unsigned threads, bool conforming,
-         std::optional<double> edge_length, double radius_edge, double min_dihedral,
-         std::optional<int> surface_resolution, std::optional<int> gap_resolution) {
-        immersion::MeshOptions o =
-            mesh_options(immersion, resolution, std::move(background), conforming, method, threads);
-        o.edge_length = edge_length;
-        o.radius_edge = radius_edge;
-        o.min_dihedral = min_dihedral;
-        o.surface_resolution = surface_resolution;
-        o.gap_resolution = gap_resolution;
-        return immersion::mesh_immersion(found, o);
-      },
-      arg("immersions"), arg("immersion") = 0, arg("resolution") = py::none(), arg("background") = py::none(),
-      arg("method") = "clip", arg("threads") = 0, arg("conforming") = false, arg("edge_length") = py::none(),
-      arg("radius_edge") = 2.0, arg("min_dihedral") = 0.0, arg("surface_resolution") = py::none(),
-      arg("gap_resolution") = py::none(), release,
-      "Meshes one immersion (paper §7): a Mesh3 with V, T, node, embedding.");
-  m.def(
-      "mesh_immersion",
-      [](const immersion::Immersions<2>& found, std::size_t immersion, std::optional<int> resolution,
-         std::optional<std::string> background, bool conforming, const std::string& method) {
-        return immersion::mesh_immersion(
-            found, mesh_options(immersion, resolution, std::move(background), conforming, method, 0));
-      },
-      arg("immersions"), arg("immersion") = 0, arg("resolution") = py::none(), arg("background") = py::none(),
-      arg("conforming") = false, arg("method") = "clip", release);
+  // One keyword set for curves and surfaces: the 3D-only keywords given for curves get the
+  // library's InvalidInput ("edge_length is for 3D surfaces only"), not pybind11's TypeError.
+  const immersion::MeshOptions defaults;
+  const auto def_mesh_immersion = [&](auto mesh, const char* doc) {
+    m.def("mesh_immersion", mesh, arg("immersions"), arg("immersion") = 0, arg("resolution") = py::none(),
+          arg("background") = py::none(), arg("method") = "clip", arg("threads") = 0, arg("conforming") = false,
+          arg("edge_length") = py::none(), arg("radius_edge") = defaults.radius_edge,
+          arg("min_dihedral") = defaults.min_dihedral, arg("surface_resolution") = py::none(),
+          arg("gap_resolution") = py::none(), release, doc);
+  };
+  def_mesh_immersion(&mesh_immersion_with<3>, "Meshes one immersion (paper §7): a Mesh3 with V, T, node, embedding.");
+  def_mesh_immersion(&mesh_immersion_with<2>, "Meshes one immersion of curves (paper §7): a Mesh2.");
 }

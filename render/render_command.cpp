@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <set>
 
 #include "core/atomic_file.h"
 #include "dim2/curves.h"
@@ -94,8 +95,11 @@ int run_render_command(const std::vector<std::string>& args, std::ostream& out, 
   bool keep_upper = false;
   double explode = 0.0;
   bool by_node = true, edges = true, intersections = true, ground = true;
+  std::set<std::string> seen;  // an option given twice is a usage error, as in the other commands
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    if (!a.empty() && a[0] == '-' && !seen.insert(a == "-o" ? "--output" : a).second)
+      return usage(a + " given twice");
     auto value = [&]() -> std::optional<std::string> {
       if (i + 1 >= args.size()) return std::nullopt;
       return args[++i];
@@ -120,7 +124,8 @@ int run_render_command(const std::vector<std::string>& args, std::ostream& out, 
       if (comma == std::string::npos) return usage("--view expects AZ,EL in degrees");
       const auto az = parse_double(v->substr(0, comma));
       const auto el = parse_double(v->substr(comma + 1));
-      if (!az || !el || *el < -89 || *el > 89) return usage("--view expects AZ,EL with EL in [-89, 89]");
+      if (!az) return usage("--view expects AZ,EL with AZ a finite number of degrees");
+      if (!el || *el < -89 || *el > 89) return usage("--view expects AZ,EL with EL in [-89, 89]");
       view.azimuth = *az;
       view.elevation = *el;
       view_given = true;
@@ -175,8 +180,7 @@ int run_render_command(const std::vector<std::string>& args, std::ostream& out, 
   if (input.empty()) return usage("no input file");
   if (output.empty()) return usage("no output picture (-o OUT.png)");
   if (!ends_with(output, ".png")) return usage("the output must be a .png file");
-  const std::filesystem::path parent = std::filesystem::absolute(output).parent_path();
-  if (const WriteStatus dir = ensure_directory(parent.string()); !dir.ok()) {
+  if (const WriteStatus dir = ensure_parent_directory(output); !dir.ok()) {
     err << "immerse render: " << dir.error << '\n';
     return 1;
   }

@@ -205,6 +205,12 @@ class Arrays3D(Fixture):
         self.assertIn("threads: at most 1024", str(e.exception))
         with self.assertRaises(immersion.InvalidInput):
             immersion.mesh_immersion(immersion.find_immersions(immersion.Curves(squares())), resolution=0)
+        # Curves take the surfaces' keywords and refuse the 3D-only ones by name (was a TypeError).
+        found2 = immersion.find_immersions(immersion.Curves(squares()))
+        for options in (dict(conforming=True, edge_length=0.1), dict(surface_resolution=8), dict(min_dihedral=5.0)):
+            with self.assertRaises(immersion.InvalidInput) as e:
+                immersion.mesh_immersion(found2, **options)
+            self.assertIn(f"{list(options)[-1]} is for 3D surfaces only", str(e.exception))
 
     def test_open_surface_message_is_the_programs(self):
         V, F = cube()
@@ -264,14 +270,17 @@ class Arrays3D(Fixture):
         path = self.generate("two-spheres", "8")
         found = immersion.find_immersions(immersion.read_surface(path))
         mesh = immersion.mesh_immersion(found, resolution=2, surface_resolution=8, gap_resolution=16)
-        mesh.write(self.path("py_graded.mesh"))
+        mesh.write(self.path("new/dir/py_graded.mesh"))  # missing directories are made, as by the program
         cli = run_immerse("mesh", path, "--resolution", "2", "--surface-resolution", "8",
                           "--gap-resolution", "16", "-o", self.path("cli_graded.mesh"))
         self.assertEqual(cli.returncode, 0, cli.stderr)
-        with open(self.path("py_graded.mesh"), "rb") as a, open(self.path("cli_graded.mesh"), "rb") as b:
+        with open(self.path("new/dir/py_graded.mesh"), "rb") as a, open(self.path("cli_graded.mesh"), "rb") as b:
             self.assertEqual(a.read(), b.read())
         with self.assertRaises(immersion.InvalidInput):
             immersion.mesh_immersion(found, surface_resolution=8, background=self.path("x.veg"))
+        with self.assertRaises(immersion.InvalidInput) as e:
+            immersion.mesh_immersion(found, resolution=8, surface_resolution=4)
+        self.assertIn("graded background: surface_resolution 4 is coarser than resolution 8", str(e.exception))
 
     def test_conforming_mesh_is_the_programs_byte_for_byte(self):
         path = self.generate("two-spheres", "8")
@@ -294,6 +303,8 @@ class Arrays3D(Fixture):
         with self.assertRaises(immersion.InvalidInput) as e:
             immersion.mesh_immersion(found, immersion=3)
         self.assertIn("has only 1 immersion", str(e.exception))
+        # The library names its own parameter, not the program's flag.
+        self.assertTrue(str(e.exception).startswith("immersion 3: "), str(e.exception))
         with self.assertRaises(immersion.InvalidInput):
             immersion.mesh_immersion(found, method="nef")
         with self.assertRaises(immersion.InvalidInput) as e:

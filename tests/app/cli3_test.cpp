@@ -5,10 +5,8 @@
 // the verdicts their SOURCES.md rows imply. No "*.tmp.*" file may be left behind.
 //
 // Each test runs the real executable (IMM_IMMERSE_EXE) with popen in a fresh temporary directory.
-// A missing key read through a const reference throws (instead of nlohmann's assert).
-#include <stdexcept>
-#define JSON_ASSERT(x) \
-  if (!(x)) throw std::runtime_error("JSON: missing key or wrong type: " #x)
+// Keys are read with .at(): a missing key throws json::out_of_range, which fails the test (a
+// const operator[] would hit nlohmann's assert).
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
@@ -184,13 +182,13 @@ TEST_F(Cli3Test, DefectsGoIntoTheJsonReportWithTriangleIds) {
     const Outcome r = run(std::string(command) + " coplanar.obj --json report.json --strict");
     EXPECT_EQ(r.code, 2) << r.output;
     const JsonValue j = read_json("report.json");
-    EXPECT_EQ(j["status"].get<std::string>(), "invalid-input");
-    EXPECT_EQ(j["input"]["dimension"].get<long>(), 3);
-    ASSERT_FALSE(j["defects"].empty());
+    EXPECT_EQ(j.at("status").get<std::string>(), "invalid-input");
+    EXPECT_EQ(j.at("input").at("dimension").get<long>(), 3);
+    ASSERT_FALSE(j.at("defects").empty());
     bool coplanar = false;
-    for (const JsonValue& d : j["defects"]) {
-      EXPECT_FALSE(d["triangles"].empty()) << d["message"].get<std::string>();
-      coplanar = coplanar || d["kind"].get<std::string>() == "coplanar-overlap";
+    for (const JsonValue& d : j.at("defects")) {
+      EXPECT_FALSE(d.at("triangles").empty()) << d.at("message").get<std::string>();
+      coplanar = coplanar || d.at("kind").get<std::string>() == "coplanar-overlap";
     }
     EXPECT_TRUE(coplanar);
   }
@@ -208,12 +206,12 @@ TEST_F(Cli3Test, ExactContactsAreResolvedWithANote) {
   // whose plane contains it: 2 x 2 vertex-on-triangle pairs and 2 x 2 edge-in-plane pairs.
   EXPECT_CONTAINS(r.output, "8 exact contacts (8 touching), resolved by perturbing the input by at most");
   const JsonValue j = read_json("report.json");
-  EXPECT_TRUE(j["input"]["contacts"]["resolved"].get<bool>());
-  EXPECT_EQ(j["input"]["contacts"]["counts"]["touching"].get<long>(), 8);
-  EXPECT_EQ(j["input"]["contacts"]["total"].get<long>(), 8);
-  EXPECT_FALSE(j["input"]["contacts"]["listed"].empty());
-  EXPECT_LE(j["input"]["contacts"]["max_displacement"].get<double>(), std::ldexp(1.0, -30) * 2);
-  EXPECT_EQ(j["count"].get<long>(), 1);
+  EXPECT_TRUE(j.at("input").at("contacts").at("resolved").get<bool>());
+  EXPECT_EQ(j.at("input").at("contacts").at("counts").at("touching").get<long>(), 8);
+  EXPECT_EQ(j.at("input").at("contacts").at("total").get<long>(), 8);
+  EXPECT_FALSE(j.at("input").at("contacts").at("listed").empty());
+  EXPECT_LE(j.at("input").at("contacts").at("max_displacement").get<double>(), std::ldexp(1.0, -30) * 2);
+  EXPECT_EQ(j.at("count").get<long>(), 1);
   // check lists each contact with its ids (and the input is valid).
   const Outcome c = run("check vertex_on_face.obj");
   ASSERT_EQ(c.code, 0) << c.output;
@@ -259,7 +257,7 @@ TEST_F(Cli3Test, ExhaustedSearchBudgetExitsWithThree) {
   const Outcome r = run("immersions two.obj --max-states 1 --json budget.json");
   EXPECT_EQ(r.code, 3) << r.output;
   EXPECT_CONTAINS(r.output, "could not be decided: search budget exhausted");
-  EXPECT_EQ(read_json("budget.json")["status"].get<std::string>(), "search-budget-exhausted");
+  EXPECT_EQ(read_json("budget.json").at("status").get<std::string>(), "search-budget-exhausted");
   EXPECT_EQ(run("immersions two.obj --max-states 1000").code, 0);
 }
 
@@ -283,9 +281,9 @@ TEST_F(Cli3Test, InversionExitsWithThree) {
   EXPECT_CONTAINS(r.output, "is not immersible: a region has winding number -1");
   EXPECT_CONTAINS(r.output, "bounded by triangles");
   const JsonValue j = read_json("inverted.json");
-  EXPECT_EQ(j["status"].get<std::string>(), "inverted");
-  EXPECT_EQ(j["inversion"]["winding"].get<long>(), -1);
-  EXPECT_FALSE(j["inversion"]["triangles"].empty());
+  EXPECT_EQ(j.at("status").get<std::string>(), "inverted");
+  EXPECT_EQ(j.at("inversion").at("winding").get<long>(), -1);
+  EXPECT_FALSE(j.at("inversion").at("triangles").empty());
   EXPECT_EQ(run("cells inverted.obj").code, 3);
 }
 
@@ -297,41 +295,41 @@ TEST_F(Cli3Test, CellsJsonOfTwoOverlappingBoxesHasExactVolumesAndArcOrder) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_CONTAINS(r.output, "4 regions, 3 cells, 4 patches, 1 arc");
   const JsonValue j = read_json("cells.json");
-  EXPECT_EQ(j["status"].get<std::string>(), "ok");
-  EXPECT_EQ(j["input"]["dimension"].get<long>(), 3);
-  EXPECT_EQ(j["input"]["triangles"].get<long>(), 24);
-  const JsonValue& counts = j["counts"];
-  EXPECT_EQ(counts["cells"].get<long>(), 3);
-  EXPECT_EQ(counts["regions"].get<long>(), 4);
-  EXPECT_EQ(counts["patches"].get<long>(), 4);
-  EXPECT_EQ(counts["arcs"].get<long>(), 1);
-  EXPECT_EQ(counts["max_winding"].get<long>(), 2);
-  EXPECT_EQ(counts["components"].get<long>(), 2);
-  EXPECT_TRUE(j["volumes_exact"].get<bool>());
+  EXPECT_EQ(j.at("status").get<std::string>(), "ok");
+  EXPECT_EQ(j.at("input").at("dimension").get<long>(), 3);
+  EXPECT_EQ(j.at("input").at("triangles").get<long>(), 24);
+  const JsonValue& counts = j.at("counts");
+  EXPECT_EQ(counts.at("cells").get<long>(), 3);
+  EXPECT_EQ(counts.at("regions").get<long>(), 4);
+  EXPECT_EQ(counts.at("patches").get<long>(), 4);
+  EXPECT_EQ(counts.at("arcs").get<long>(), 1);
+  EXPECT_EQ(counts.at("max_winding").get<long>(), 2);
+  EXPECT_EQ(counts.at("components").get<long>(), 2);
+  EXPECT_TRUE(j.at("volumes_exact").get<bool>());
 
   // Volumes by hand: A = 1, B = 1.25 * 1.375 * 1.125 = 495/256, A and B = 0.5 * 0.75 * 0.625
   // = 15/64; A only = 49/64, B only = 435/256. Invariant 1: 1 * 49/64 + 1 * 435/256 + 2 * 15/64
   // = 751/256 = vol A + vol B.
-  EXPECT_EQ(j["winding_weighted_volume_exact"].get<std::string>(), "751/256");
+  EXPECT_EQ(j.at("winding_weighted_volume_exact").get<std::string>(), "751/256");
   std::vector<std::pair<long, std::string>> cells;  // (winding, exact volume)
-  const JsonArray& regions = j["regions"];
+  const JsonArray& regions = j.at("regions");
   ASSERT_EQ(regions.size(), 4u);
-  EXPECT_TRUE(regions[0]["volume"].is_null());  // the unbounded region
-  EXPECT_EQ(regions[0]["winding"].get<long>(), 0);
-  for (const JsonValue& cell : j["cells"]) {
-    const JsonValue& region = regions.at(static_cast<std::size_t>(cell["region"].get<long>()));
-    EXPECT_EQ(region["winding"].get<long>(), cell["winding"].get<long>());
-    EXPECT_EQ(region["cell"].get<long>(), cell["id"].get<long>());
-    EXPECT_EQ(region["genus"].get<long>(), 0);
-    EXPECT_TRUE(region["simply_connected"].get<bool>());
-    cells.emplace_back(cell["winding"].get<long>(), region["volume_exact"].get<std::string>());
+  EXPECT_TRUE(regions[0].at("volume").is_null());  // the unbounded region
+  EXPECT_EQ(regions[0].at("winding").get<long>(), 0);
+  for (const JsonValue& cell : j.at("cells")) {
+    const JsonValue& region = regions.at(static_cast<std::size_t>(cell.at("region").get<long>()));
+    EXPECT_EQ(region.at("winding").get<long>(), cell.at("winding").get<long>());
+    EXPECT_EQ(region.at("cell").get<long>(), cell.at("id").get<long>());
+    EXPECT_EQ(region.at("genus").get<long>(), 0);
+    EXPECT_TRUE(region.at("simply_connected").get<bool>());
+    cells.emplace_back(cell.at("winding").get<long>(), region.at("volume_exact").get<std::string>());
     // the double is the exact value rounded (these are dyadic: exactly representable)
-    const std::string& q = region["volume_exact"].get<std::string>();
+    const std::string& q = region.at("volume_exact").get<std::string>();
     const std::size_t slash = q.find('/');
     ASSERT_NE(slash, std::string::npos) << q;
-    EXPECT_EQ(region["volume"].get<double>(),
+    EXPECT_EQ(region.at("volume").get<double>(),
               std::stod(q.substr(0, slash)) / std::stod(q.substr(slash + 1)));
-    EXPECT_EQ(cell["b_patches"].size(), 2u);
+    EXPECT_EQ(cell.at("b_patches").size(), 2u);
   }
   std::vector<std::pair<long, std::string>> expected_cells = {
       {1, "49/64"}, {1, "435/256"}, {2, "15/64"}};
@@ -342,31 +340,31 @@ TEST_F(Cli3Test, CellsJsonOfTwoOverlappingBoxesHasExactVolumesAndArcOrder) {
   // Patches: the winding number drops by one across each, in the direction of its normal
   // (invariant 2); each box is cut into two patches of 36 sub-triangles in all.
   long patch_triangles = 0;
-  for (const JsonValue& p : j["patches"]) {
+  for (const JsonValue& p : j.at("patches")) {
     const long positive =
-        regions.at(static_cast<std::size_t>(p["positive_region"].get<long>()))["winding"].get<long>();
+        regions.at(static_cast<std::size_t>(p.at("positive_region").get<long>())).at("winding").get<long>();
     const long negative =
-        regions.at(static_cast<std::size_t>(p["negative_region"].get<long>()))["winding"].get<long>();
+        regions.at(static_cast<std::size_t>(p.at("negative_region").get<long>())).at("winding").get<long>();
     EXPECT_EQ(negative, positive + 1);
-    EXPECT_GT(p["triangles"].get<long>(), 0);
-    patch_triangles += p["triangles"].get<long>();
+    EXPECT_GT(p.at("triangles").get<long>(), 0);
+    patch_triangles += p.at("triangles").get<long>();
   }
-  EXPECT_EQ(patch_triangles, counts["cut_triangles"].get<long>());
+  EXPECT_EQ(patch_triangles, counts.at("cut_triangles").get<long>());
 
   // The arc: four junctions in cyclic order; junction k's patch separates wedges k-1 and k, and
   // the wedges are the four regions (outside, A only, A and B, B only), each once.
-  const JsonValue& arc = j["arcs"][0];
-  EXPECT_TRUE(arc["closed"].get<bool>());
-  ASSERT_EQ(arc["junction_patches"].size(), 4u);
-  ASSERT_EQ(arc["wedge_regions"].size(), 4u);
+  const JsonValue& arc = j.at("arcs")[0];
+  EXPECT_TRUE(arc.at("closed").get<bool>());
+  ASSERT_EQ(arc.at("junction_patches").size(), 4u);
+  ASSERT_EQ(arc.at("wedge_regions").size(), 4u);
   std::vector<long> wedges;
   for (std::size_t k = 0; k < 4; ++k) {
     const JsonValue& patch =
-        j["patches"][static_cast<std::size_t>(arc["junction_patches"][k].get<long>())];
-    const long before = arc["wedge_regions"][(k + 3) % 4].get<long>(),
-               after = arc["wedge_regions"][k].get<long>();
-    const long positive = patch["positive_region"].get<long>(),
-               negative = patch["negative_region"].get<long>();
+        j.at("patches")[static_cast<std::size_t>(arc.at("junction_patches")[k].get<long>())];
+    const long before = arc.at("wedge_regions")[(k + 3) % 4].get<long>(),
+               after = arc.at("wedge_regions")[k].get<long>();
+    const long positive = patch.at("positive_region").get<long>(),
+               negative = patch.at("negative_region").get<long>();
     EXPECT_TRUE((positive == before && negative == after) ||
                 (positive == after && negative == before))
         << "junction " << k;
@@ -374,7 +372,7 @@ TEST_F(Cli3Test, CellsJsonOfTwoOverlappingBoxesHasExactVolumesAndArcOrder) {
   }
   std::sort(wedges.begin(), wedges.end());
   EXPECT_EQ(wedges, (std::vector<long>{0, 1, 2, 3}));
-  EXPECT_TRUE(j["timings_ms"].contains("complex"));
+  EXPECT_TRUE(j.at("timings_ms").contains("complex"));
 
   // The cut mesh: one group per patch, as many faces as cut triangles.
   const std::string cut = read("cut.obj");
@@ -385,7 +383,7 @@ TEST_F(Cli3Test, CellsJsonOfTwoOverlappingBoxesHasExactVolumesAndArcOrder) {
     faces += line.rfind("f ", 0) == 0;
   }
   EXPECT_EQ(groups, 4);
-  EXPECT_EQ(faces, counts["cut_triangles"].get<long>());
+  EXPECT_EQ(faces, counts.at("cut_triangles").get<long>());
 }
 
 // ---- self-connecting cells and helper boxes -----------------------------------------------
@@ -399,7 +397,7 @@ TEST_F(Cli3Test, SelfConnectingCellIsCutByAHelperBox) {
   EXPECT_CONTAINS(without.output, "is not simply immersible");
   EXPECT_CONTAINS(without.output, "self-connecting");
   EXPECT_CONTAINS(without.output, "helper boxes disabled by --no-helper-boxes");
-  EXPECT_EQ(read_json("without.json")["status"].get<std::string>(), "self-connecting-cell");
+  EXPECT_EQ(read_json("without.json").at("status").get<std::string>(), "self-connecting-cell");
 
   const Outcome with = run("immersions loop.off --json with.json");
   EXPECT_EQ(with.code, 0) << with.output;
@@ -407,12 +405,12 @@ TEST_F(Cli3Test, SelfConnectingCellIsCutByAHelperBox) {
   EXPECT_CONTAINS(with.output, "helper box 0: [");
   EXPECT_CONTAINS(with.output, "note: cell");
   const JsonValue j = read_json("with.json");
-  EXPECT_EQ(j["status"].get<std::string>(), "immersible");
-  EXPECT_EQ(j["count"].get<long>(), 1);
-  ASSERT_EQ(j["helper_boxes"].size(), 1u);
-  EXPECT_EQ(j["helper_boxes"][0]["lo"].size(), 3u);
-  EXPECT_EQ(j["input"]["input_triangles"].get<long>(), j["input"]["triangles"].get<long>());
-  EXPECT_FALSE(j["notes"].empty());
+  EXPECT_EQ(j.at("status").get<std::string>(), "immersible");
+  EXPECT_EQ(j.at("count").get<long>(), 1);
+  ASSERT_EQ(j.at("helper_boxes").size(), 1u);
+  EXPECT_EQ(j.at("helper_boxes")[0].at("lo").size(), 3u);
+  EXPECT_EQ(j.at("input").at("input_triangles").get<long>(), j.at("input").at("triangles").get<long>());
+  EXPECT_FALSE(j.at("notes").empty());
 }
 
 // ---- meshing (paper §7) ---------------------------------------------------------------------------
@@ -456,16 +454,16 @@ TEST_F(Cli3Test, MeshWritesEveryFormatAndTheCountsAgree) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_CONTAINS(r.output, "immersion 0 of 1 meshed: ");
   const JsonValue j = read_json("two.json");
-  EXPECT_EQ(j["status"].get<std::string>(), "ok");
-  ASSERT_EQ(j["meshes"].size(), 1u);
-  const JsonValue& counts = j["meshes"][0]["counts"];
-  const long tets = counts["output_tets"].get<long>();
-  const long vertices = counts["output_vertices"].get<long>();
+  EXPECT_EQ(j.at("status").get<std::string>(), "ok");
+  ASSERT_EQ(j.at("meshes").size(), 1u);
+  const JsonValue& counts = j.at("meshes")[0].at("counts");
+  const long tets = counts.at("output_tets").get<long>();
+  const long vertices = counts.at("output_vertices").get<long>();
   EXPECT_GT(tets, 0);
   // Two boxes: 3 cells (A only, B only, A and B with winding number 2).
-  ASSERT_EQ(counts["copies_per_cell"].size(), 3u);
+  ASSERT_EQ(counts.at("copies_per_cell").size(), 3u);
   long sum = 0;
-  for (const JsonValue& n : counts["copies_per_cell"]) sum += n.get<long>();
+  for (const JsonValue& n : counts.at("copies_per_cell")) sum += n.get<long>();
   EXPECT_EQ(sum, tets);
   // The Medit file holds exactly the counted vertices and tets, 1-based, each with its node.
   std::istringstream mesh(read("two.mesh"));
@@ -499,19 +497,19 @@ TEST_F(Cli3Test, MeshWritesEveryFormatAndTheCountsAgree) {
   const Outcome csg = run("mesh two.obj --resolution 6 --method csg -o csg.mesh --json csg.json");
   ASSERT_EQ(csg.code, 0) << csg.output;
   const JsonValue csg_json = read_json("csg.json");
-  const JsonValue& csg_counts = csg_json["meshes"][0]["counts"];
-  EXPECT_EQ(csg_counts["output_tets"].get<long>(), tets);
-  EXPECT_EQ(csg_counts["output_vertices"].get<long>(), vertices);
+  const JsonValue& csg_counts = csg_json.at("meshes")[0].at("counts");
+  EXPECT_EQ(csg_counts.at("output_tets").get<long>(), tets);
+  EXPECT_EQ(csg_counts.at("output_vertices").get<long>(), vertices);
   for (std::size_t c = 0; c < 3; ++c)
-    EXPECT_EQ(csg_counts["copies_per_cell"][c].get<long>(), counts["copies_per_cell"][c].get<long>());
-  EXPECT_EQ(csg_json["options"]["method"].get<std::string>(), "csg");
+    EXPECT_EQ(csg_counts.at("copies_per_cell")[c].get<long>(), counts.at("copies_per_cell")[c].get<long>());
+  EXPECT_EQ(csg_json.at("options").at("method").get<std::string>(), "csg");
   // Exact work in CPU milliseconds: the CSG's is booleans for the most part; two boxes are
   // decided by the clipping's interval filter alone, with no booleans ever.
-  const JsonValue& csg_cpu = csg_json["meshes"][0]["virtual_cpu_ms"];
-  EXPECT_GT(csg_cpu["booleans"].get<double>(), 0.0);
-  EXPECT_LE(csg_cpu["booleans"].get<double>(), csg_cpu["exact_arithmetic"].get<double>());
-  EXPECT_EQ(j["meshes"][0]["virtual_cpu_ms"]["booleans"].get<double>(), 0.0);
-  EXPECT_EQ(counts["exact_fallback_tets"].get<long>() == 0, j["meshes"][0]["virtual_cpu_ms"]["exact_arithmetic"].get<double>() == 0.0);
+  const JsonValue& csg_cpu = csg_json.at("meshes")[0].at("virtual_cpu_ms");
+  EXPECT_GT(csg_cpu.at("booleans").get<double>(), 0.0);
+  EXPECT_LE(csg_cpu.at("booleans").get<double>(), csg_cpu.at("exact_arithmetic").get<double>());
+  EXPECT_EQ(j.at("meshes")[0].at("virtual_cpu_ms").at("booleans").get<double>(), 0.0);
+  EXPECT_EQ(counts.at("exact_fallback_tets").get<long>() == 0, j.at("meshes")[0].at("virtual_cpu_ms").at("exact_arithmetic").get<double>() == 0.0);
   ASSERT_EQ(run("mesh two.obj --resolution 6 --threads 1 -o one.mesh").code, 0);
   ASSERT_EQ(run("mesh two.obj --resolution 6 --threads 2 -o both.mesh").code, 0);
   EXPECT_EQ(read("one.mesh"), read("both.mesh"));
@@ -555,9 +553,9 @@ TEST_F(Cli3Test, ConformingMeshKeepsEveryInputVertexAndTheCutTriangles) {
   EXPECT_EQ(gmsh.mesh.tets, medit.mesh.tets);
   EXPECT_EQ(gmsh.mesh.vertices, medit.mesh.vertices);
   const JsonValue j = read_json("two.json");
-  const JsonValue& m = j["meshes"][0];
-  EXPECT_EQ(m["counts"]["output_tets"].get<long>(), static_cast<long>(medit.mesh.tets.size()));
-  EXPECT_TRUE(j["options"]["conforming"].get<bool>());
+  const JsonValue& m = j.at("meshes")[0];
+  EXPECT_EQ(m.at("counts").at("output_tets").get<long>(), static_cast<long>(medit.mesh.tets.size()));
+  EXPECT_TRUE(j.at("options").at("conforming").get<bool>());
   // Boundary faces: faces of exactly one tet.
   std::map<std::array<int, 3>, int> faces;
   for (const auto& t : medit.mesh.tets)
@@ -571,7 +569,7 @@ TEST_F(Cli3Test, ConformingMeshKeepsEveryInputVertexAndTheCutTriangles) {
     EXPECT_LE(n, 2);
     boundary += n == 1;
   }
-  EXPECT_EQ(boundary, m["counts"]["cut_triangles"].get<long>());
+  EXPECT_EQ(boundary, m.at("counts").at("cut_triangles").get<long>());
   // The embedding: weight 1 on a corner at the input vertex's exact position.
   const imm::dim3::Surface input = two_boxes();
   std::istringstream emb(read("two.emb"));
@@ -597,11 +595,11 @@ TEST_F(Cli3Test, ConformingMeshOfASelfConnectingShapeDropsTheHelperBoxSolid) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_CONTAINS(r.output, "helper-box tets dropped");
   const JsonValue j = read_json("loop.json");
-  EXPECT_EQ(j["helper_boxes"].size(), 1u);
-  const JsonValue& counts = j["meshes"][0]["counts"];
-  EXPECT_GT(counts["helper_tets_dropped"].get<long>(), 0);
-  EXPECT_GT(counts["output_tets"].get<long>(), 0);
-  EXPECT_EQ(counts["embedded_vertices"].get<long>(), j["input"]["vertices"].get<long>());
+  EXPECT_EQ(j.at("helper_boxes").size(), 1u);
+  const JsonValue& counts = j.at("meshes")[0].at("counts");
+  EXPECT_GT(counts.at("helper_tets_dropped").get<long>(), 0);
+  EXPECT_GT(counts.at("output_tets").get<long>(), 0);
+  EXPECT_EQ(counts.at("embedded_vertices").get<long>(), j.at("input").at("vertices").get<long>());
 }
 
 TEST_F(Cli3Test, MeshOfASelfConnectingShapeDropsTheHelperBoxSolid) {
@@ -610,12 +608,12 @@ TEST_F(Cli3Test, MeshOfASelfConnectingShapeDropsTheHelperBoxSolid) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_CONTAINS(r.output, "helper-box tets dropped");
   const JsonValue j = read_json("loop.json");
-  EXPECT_EQ(j["helper_boxes"].size(), 1u);
-  const JsonValue& counts = j["meshes"][0]["counts"];
-  EXPECT_GT(counts["helper_tets_dropped"].get<long>(), 0);
-  EXPECT_GT(counts["output_tets"].get<long>(), 0);
+  EXPECT_EQ(j.at("helper_boxes").size(), 1u);
+  const JsonValue& counts = j.at("meshes")[0].at("counts");
+  EXPECT_GT(counts.at("helper_tets_dropped").get<long>(), 0);
+  EXPECT_GT(counts.at("output_tets").get<long>(), 0);
   // Only the user's vertices are embedded.
-  EXPECT_EQ(counts["embedded_vertices"].get<long>(), j["input"]["vertices"].get<long>());
+  EXPECT_EQ(counts.at("embedded_vertices").get<long>(), j.at("input").at("vertices").get<long>());
 }
 
 TEST_F(Cli3Test, BackgroundThatDoesNotCoverTheInputExitsWithTwo) {
@@ -626,7 +624,7 @@ TEST_F(Cli3Test, BackgroundThatDoesNotCoverTheInputExitsWithTwo) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_CONTAINS(r.output, "not-covered");
   EXPECT_FALSE(exists("far.mesh"));
-  EXPECT_EQ(read_json("far.json")["status"].get<std::string>(), "invalid-input");
+  EXPECT_EQ(read_json("far.json").at("status").get<std::string>(), "invalid-input");
 }
 
 // ---- generators, usage --------------------------------------------------------------------------
@@ -644,8 +642,8 @@ TEST_F(Cli3Test, GenerateWritesSurfacesInTheFormatOfTheExtension) {
   const Outcome r = run("immersions spheres.off --json spheres.json");
   EXPECT_EQ(r.code, 0) << r.output;
   const JsonValue j = read_json("spheres.json");
-  EXPECT_EQ(j["counts"]["cells"].get<long>(), 3);
-  EXPECT_EQ(j["count"].get<long>(), 1);
+  EXPECT_EQ(j.at("counts").at("cells").get<long>(), 3);
+  EXPECT_EQ(j.at("count").get<long>(), 1);
 
   const Outcome stdout_obj = run("generate sphere 4");
   EXPECT_EQ(stdout_obj.code, 0);
@@ -726,13 +724,13 @@ TEST_F(Cli3RealTest, QuintupleTorusHasThePapersCounts) {
       run("immersions " + file("quintupleTorus.obj") + " --all --json quintuple.json");
   ASSERT_EQ(r.code, 0) << r.output;
   const JsonValue j = read_json("quintuple.json");
-  EXPECT_EQ(j["counts"]["cells"].get<long>(), 314);
-  EXPECT_EQ(j["counts"]["patches"].get<long>(), 886);
-  EXPECT_EQ(j["counts"]["arcs"].get<long>(), 850);
-  EXPECT_EQ(j["counts"]["max_winding"].get<long>(), 7);
-  EXPECT_EQ(j["count"].get<long>(), 1);
-  EXPECT_TRUE(j["complete"].get<bool>());
-  EXPECT_TRUE(j["helper_boxes"].empty());
+  EXPECT_EQ(j.at("counts").at("cells").get<long>(), 314);
+  EXPECT_EQ(j.at("counts").at("patches").get<long>(), 886);
+  EXPECT_EQ(j.at("counts").at("arcs").get<long>(), 850);
+  EXPECT_EQ(j.at("counts").at("max_winding").get<long>(), 7);
+  EXPECT_EQ(j.at("count").get<long>(), 1);
+  EXPECT_TRUE(j.at("complete").get<bool>());
+  EXPECT_TRUE(j.at("helper_boxes").empty());
   EXPECT_CONTAINS(r.output, "314 cells, 886 patches, 850 arcs, 1 immersion | read");
 }
 
@@ -761,11 +759,11 @@ TEST_F(Cli3RealTest, CombOnItsOwnBackgroundIsMeshedWithTheTranslationSaid) {
   EXPECT_CONTAINS(r.output, "touches the background mesh non-generically");
   EXPECT_CONTAINS(r.output, "meshed the input translated by (");
   const JsonValue j = read_json("comb.json");
-  const JsonValue& m = j["meshes"][0];
-  EXPECT_EQ(m["counts"]["background_tets"].get<long>(), 5844);
-  EXPECT_GE(m["counts"]["generic_attempts"].get<long>(), 2);
+  const JsonValue& m = j.at("meshes")[0];
+  EXPECT_EQ(m.at("counts").at("background_tets").get<long>(), 5844);
+  EXPECT_GE(m.at("counts").at("generic_attempts").get<long>(), 2);
   double shift = 0.0;
-  for (const JsonValue& x : m["input_shift"]) shift = std::max(shift, std::abs(x.get<double>()));
+  for (const JsonValue& x : m.at("input_shift")) shift = std::max(shift, std::abs(x.get<double>()));
   EXPECT_GT(shift, 0.0);
   EXPECT_LT(shift, 1e-6);  // about 2^-32 of the comb's diagonal
 }
@@ -782,9 +780,9 @@ TEST_F(Cli3RealTest, EmbeddedAndOverlappingControlsHaveOneImmersion) {
     const Outcome r = run("immersions " + file(c.name) + " --all --json out.json");
     ASSERT_EQ(r.code, 0) << r.output;
     const JsonValue j = read_json("out.json");
-    EXPECT_EQ(j["counts"]["cells"].get<long>(), c.cells);
-    EXPECT_EQ(j["count"].get<long>(), 1);
-    EXPECT_TRUE(j["complete"].get<bool>());
+    EXPECT_EQ(j.at("counts").at("cells").get<long>(), c.cells);
+    EXPECT_EQ(j.at("count").get<long>(), 1);
+    EXPECT_TRUE(j.at("complete").get<bool>());
   }
 }
 
@@ -832,9 +830,9 @@ TEST_F(Cli3RealTest, DoubleLoopWithCubeIsResolvedAndMeshed) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_CONTAINS(r.output, "408 exact contacts (408 touching), resolved");
   const JsonValue j = read_json("dl.json");
-  EXPECT_EQ(j["input"]["contacts"]["counts"]["touching"].get<long>(), 408);
-  EXPECT_EQ(j["input"]["contacts"]["total"].get<long>(), 408);
-  EXPECT_GT(j["input"]["contacts"]["max_displacement"].get<double>(), 0.0);
+  EXPECT_EQ(j.at("input").at("contacts").at("counts").at("touching").get<long>(), 408);
+  EXPECT_EQ(j.at("input").at("contacts").at("total").get<long>(), 408);
+  EXPECT_GT(j.at("input").at("contacts").at("max_displacement").get<double>(), 0.0);
   EXPECT_EQ(run("immersions " + file("doubleLoopWithCube.obj") + " --strict").code, 2);
 }
 
@@ -861,43 +859,43 @@ TEST_F(Cli3Test, LocalFoldsAreRepairedOnlyWhenAskedAndEveryMoveIsReported) {
     EXPECT_NE(repaired.output.find("1 cell, 1 patch, 0 arcs"), std::string::npos) << repaired.output;
     // The JSON carries what the note says: every moved vertex, where from, where to, how far.
     const JsonValue j = read_json("repaired.json");
-    const JsonValue& r = j["input"]["fold_repair"];
-    EXPECT_TRUE(r["repaired"].get<bool>());
-    EXPECT_EQ(r["max_allowed"].get<double>(), 3.0);
-    ASSERT_FALSE(r["moved"].empty());
-    EXPECT_NE(repaired.output.find(std::to_string(r["moved"].size()) + " vertices moved"), std::string::npos)
+    const JsonValue& r = j.at("input").at("fold_repair");
+    EXPECT_TRUE(r.at("repaired").get<bool>());
+    EXPECT_EQ(r.at("max_allowed").get<double>(), 3.0);
+    ASSERT_FALSE(r.at("moved").empty());
+    EXPECT_NE(repaired.output.find(std::to_string(r.at("moved").size()) + " vertices moved"), std::string::npos)
         << repaired.output;
     double largest = 0.0;
     bool fold_vertex = false;
-    for (const JsonValue& m : r["moved"]) {
+    for (const JsonValue& m : r.at("moved")) {
       double d2 = 0.0;
       for (int d = 0; d < 3; ++d) {
-        const double x = m["to"][d].get<double>() - m["from"][d].get<double>();
+        const double x = m.at("to")[d].get<double>() - m.at("from")[d].get<double>();
         d2 += x * x;
       }
-      EXPECT_DOUBLE_EQ(m["displacement"].get<double>(), std::sqrt(d2));
-      EXPECT_GT(m["displacement"].get<double>(), 0.0);
-      EXPECT_LE(m["displacement"].get<double>(), 3.0);
-      largest = std::max(largest, m["displacement"].get<double>());
-      if (m["vertex"].get<long>() == 6) {
+      EXPECT_DOUBLE_EQ(m.at("displacement").get<double>(), std::sqrt(d2));
+      EXPECT_GT(m.at("displacement").get<double>(), 0.0);
+      EXPECT_LE(m.at("displacement").get<double>(), 3.0);
+      largest = std::max(largest, m.at("displacement").get<double>());
+      if (m.at("vertex").get<long>() == 6) {
         fold_vertex = true;
-        EXPECT_EQ(m["from"], JsonValue::parse("[-5.5, -3.0, 1.0]"));
+        EXPECT_EQ(m.at("from"), JsonValue::parse("[-5.5, -3.0, 1.0]"));
       }
     }
     EXPECT_TRUE(fold_vertex);
-    EXPECT_EQ(r["max_displacement"].get<double>(), largest);
-    EXPECT_FALSE(j["input"].contains("contacts")) << "folds alone are no contacts";
+    EXPECT_EQ(r.at("max_displacement").get<double>(), largest);
+    EXPECT_FALSE(j.at("input").contains("contacts")) << "folds alone are no contacts";
   }
   EXPECT_EQ(run("cells fold.obj --json plain.json").code, 3);
-  EXPECT_FALSE(read_json("plain.json")["input"].contains("fold_repair")) << "no repair without --repair-folds";
+  EXPECT_FALSE(read_json("plain.json").at("input").contains("fold_repair")) << "no repair without --repair-folds";
   EXPECT_TRUE(exists("fold.vtu"));
   EXPECT_TRUE(exists("fold.emb"));
   const Outcome too_small = run("mesh fold.obj --repair-folds 0.01 -o small.vtu --json small.json");
   EXPECT_EQ(too_small.code, 3) << too_small.output;
   const JsonValue refused_json = read_json("small.json");
-  EXPECT_EQ(refused_json["status"].get<std::string>(), "local-fold");
-  EXPECT_FALSE(refused_json["input"]["fold_repair"]["repaired"].get<bool>());
-  EXPECT_NE(refused_json["input"]["fold_repair"]["failure"].get<std::string>().find("vertex"), std::string::npos);
+  EXPECT_EQ(refused_json.at("status").get<std::string>(), "local-fold");
+  EXPECT_FALSE(refused_json.at("input").at("fold_repair").at("repaired").get<bool>());
+  EXPECT_NE(refused_json.at("input").at("fold_repair").at("failure").get<std::string>().find("vertex"), std::string::npos);
   EXPECT_NE(too_small.output.find("--repair-folds: "), std::string::npos) << too_small.output;
   EXPECT_NE(too_small.output.find("not repaired within --repair-folds 0.01: vertex"), std::string::npos)
       << too_small.output;

@@ -159,6 +159,15 @@ TEST(GradedBackground, MinimumDihedralBoundIsFortyFiveDegrees) {
   EXPECT_NEAR(graded_min_dihedral_bound(), 45.0, 1e-9);
 }
 
+TEST(GradedBackground, SizeOrderIsCheckedOnceAndWordedInTheCallersNames) {
+  const GradedOptionNames names{"far", "surface", "gap"};
+  EXPECT_EQ(graded_order_error(sizes(8, 32, 0), names), "");
+  EXPECT_EQ(graded_order_error(sizes(8, 8, 8), names), "");
+  EXPECT_EQ(graded_order_error(sizes(0, 8, 0), names), "far must be at least 1");
+  EXPECT_EQ(graded_order_error(sizes(8, 4, 0), names), "surface 4 is coarser than far 8");
+  EXPECT_EQ(graded_order_error(sizes(8, 16, 12), names), "gap 12 is coarser than surface 16");
+}
+
 TEST(GradedBackground, TorusIsConformingAndGraded) {
   const Surface s = torus(24);
   const GradedBackground g = make_graded_background(s, bounding_box(s), sizes(4, 32));

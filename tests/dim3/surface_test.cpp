@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -763,24 +762,16 @@ TEST(SurfaceRealData, DuplicatedPositionsAreNamed) {
   for (const Defect& e : offset.defects) EXPECT_EQ(e.kind, DefectKind::DuplicateVertex);
 }
 
-TEST(SurfaceRealData, LargeFilesLoadAndValidateQuickly) {
+TEST(SurfaceRealData, LargeFilesLoadAndValidate) {
+  // Their read and validation times are benchmarks (BM_Surface3_ReadValidate), not assertions.
   if (!std::filesystem::is_directory(real_dir()))
     GTEST_SKIP() << "no shared data at " << real_dir();
   for (const char* name : {"quintupleTorus.obj", "armadillo.obj"}) {
-    const auto start = std::chrono::steady_clock::now();
     const SurfaceReadResult r = read_surface(real_dir() + "/" + name);
-    const auto read = std::chrono::steady_clock::now();
+    EXPECT_TRUE(r.report.ok()) << name << ": " << r.report.summary();
     const ValidationReport report = validate_surface(r.surface);
-    const auto end = std::chrono::steady_clock::now();
-    const double read_s = std::chrono::duration<double>(read - start).count();
-    const double validate_s = std::chrono::duration<double>(end - read).count();
-    RecordProperty(std::string(name) + "_read_seconds", std::to_string(read_s));
-    RecordProperty(std::string(name) + "_validate_seconds", std::to_string(validate_s));
-    EXPECT_TRUE(r.report.ok() && report.ok());
-    // Measured about 0.04 s + 0.05 s for armadillo in Release; generous bounds for a shared
-    // machine.
-    EXPECT_LT(read_s, 0.3) << name;
-    EXPECT_LT(validate_s, 0.5) << name;
+    EXPECT_TRUE(report.ok()) << name << ": " << report.summary();
+    EXPECT_GT(r.surface.triangle_count(), 10'000u) << name;
   }
 }
 

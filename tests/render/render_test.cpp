@@ -570,6 +570,13 @@ TEST(RenderCommand, BadCommandLinesAndInputsAreRefused) {
   EXPECT_EQ(run({"a.mesh", "-o", png, "--cut", "w=0.5"}), 64);
   EXPECT_EQ(run({"a.mesh", "-o", png, "--cut", "x=2"}), 64);
   EXPECT_EQ(run({"a.obj", "-o", png, "--view", "10"}), 64);
+  err.str("");
+  EXPECT_EQ(run({"a.obj", "-o", png, "--view", "inf,0"}), 64);
+  EXPECT_NE(err.str().find("AZ a finite number"), std::string::npos) << err.str();
+  err.str("");
+  EXPECT_EQ(run({"a.obj", "-o", png, "--view", "10,20", "--view", "30,20"}), 64);
+  EXPECT_NE(err.str().find("--view given twice"), std::string::npos) << err.str();
+  EXPECT_EQ(run({"a.obj", "-o", png, "--output", png}), 64);
   EXPECT_EQ(run({"a.obj", "-o", png, "--bogus"}), 64);
   EXPECT_EQ(run({"a.xyz", "-o", png}), 64);
   EXPECT_EQ(run({(dir / "missing.obj").string(), "-o", png}), 2);
