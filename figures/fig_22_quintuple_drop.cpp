@@ -249,7 +249,7 @@ int main(int argc, char** argv) {
        << "): the five tori held, the cylinders free\n\n"
        << kTableHead << row("unglued", unglued) << row("glued", glued);
 
-    md << "- CPU seconds per step (median / max, this thread): unglued " << step_times(unglued) << ", glued "
+    md << "\n- CPU seconds per step (median / max, this thread): unglued " << step_times(unglued) << ", glued "
        << step_times(glued) << "\n\nThe paper's quintupleTorus.obj on its .veg runs in full mode when ../shared/data "
        << "is present.\n";
     figures::write(args, "fig22.md", md.str());
