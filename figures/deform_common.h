@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/parallel.h"
 #include "deform/fem.h"
 #include "deform/simplex_mesh.h"
 #include "deform/vtu.h"
@@ -127,13 +128,15 @@ struct Dropped {
   int newton_iterations = 0;
   int unconverged = 0;
   std::size_t held = 0;  ///< mesh vertices held
+  std::vector<double> step_seconds;  ///< CPU seconds of each step (this thread), in step order
 };
 
 /// A dynamic FEM run on one mesh (Figs. 3 and 22): holds the carrying vertices of the `held`
 /// input vertices in place and simulates `steps` implicit Euler steps with `options` (gravity,
 /// ground, time step). `held_part` per input vertex: whether it belongs to a held part; pairs of
 /// intersecting triangles between a held and a free part are counted apart, and the free parts'
-/// mean displacement along the gravity.
+/// mean displacement along the gravity. One FemSolver for the whole run: its factorization is
+/// reused across steps as the PCG preconditioner.
 inline Dropped drop(const deform::SimplexMesh<3>& mesh, const std::vector<deform::EmbeddedPoint>& embedding,
                     const dim3::Surface& input, const std::vector<std::size_t>& held,
                     const std::vector<bool>& held_part, const deform::FemOptions& options, int steps) {
@@ -146,7 +149,9 @@ inline Dropped drop(const deform::SimplexMesh<3>& mesh, const std::vector<deform
   const Eigen::MatrixXd targets = mesh.vertices(handles, Eigen::all);
   deform::FemSolver solver;
   for (int step = 1; step <= steps; ++step) {
+    const double start = thread_cpu_seconds();
     const deform::FemReport r = deform::fem_step<3>(data, state, targets, options, &solver);
+    d.step_seconds.push_back(thread_cpu_seconds() - start);
     if (!r.error.empty()) throw std::runtime_error("FEM step: " + r.error);
     d.newton_iterations += r.newton_iterations;
     d.unconverged += r.converged ? 0 : 1;
