@@ -1,8 +1,9 @@
 // Plumbing shared by the figure programs of paper §8 (deformation and weights on the unglued
 // mesh beside the glued baseline): a deform::SimplexMesh<3> at some positions as a dim3::TetMesh
 // to draw, the input surface carried by an embedding, the connected parts of an input surface,
-// handle vertices picked through the embedding, the colour-bar check of a scalar picture, and
-// the held-and-dropped FEM run of Figs. 3 and 22.
+// handle vertices picked through the embedding, the colour-bar check of a scalar picture, the
+// immerse-mesh-deformable preparation every figure starts with, and the held-and-dropped FEM run
+// of Figs. 3 and 22.
 #pragma once
 
 #include <numeric>
@@ -10,9 +11,11 @@
 #include <vector>
 
 #include "core/parallel.h"
+#include "deform/convert.h"
 #include "deform/fem.h"
 #include "deform/simplex_mesh.h"
 #include "deform/vtu.h"
+#include "dim3/self_connecting.h"
 #include "dim3/surface.h"
 #include "dim3/surface_genericity.h"
 #include "dim3/tet_mesh.h"
@@ -22,6 +25,28 @@
 #include "render/scene.h"
 
 namespace imm::figures {
+
+/// An input immersed, its first immersion meshed, and the unglued mesh beside its glued baseline.
+struct Meshed {
+  dim3::Immersed im;
+  dim3::MeshResult mesh;
+  deform::DeformableInput<3> in;
+};
+
+/// Immerses `input` (volumes in doubles: the figures need none exact), meshes its first immersion
+/// with `options` and builds both deformable meshes; `what` names the input in the checks
+/// ("the head" -> "the head is immersible").
+inline Meshed immerse_and_mesh(const dim3::Surface& input, const dim3::MeshOptions& options, const std::string& what) {
+  dim3::ImmerseOptions io;
+  io.build.exact_volumes = false;
+  Meshed m{dim3::immerse_surface(input, io), {}, {}};
+  expect(m.im.build.complex && !m.im.search.immersions.empty(), what + " is immersible");
+  m.mesh = dim3::mesh_immersion(*m.im.build.complex, m.im.search.immersions[0], options, m.im.input_vertices,
+                                m.im.input_triangles);
+  expect(m.mesh.report.ok(), m.mesh.report.summary());
+  m.in = deform::deformable(m.mesh);
+  return m;
+}
 
 /// `mesh`'s elements at `positions` (n x 3) as a tet mesh to draw; `reference` per element
 /// (graph node, for colouring) or empty.

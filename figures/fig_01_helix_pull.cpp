@@ -84,16 +84,9 @@ int main(int argc, char** argv) {
     const std::size_t before = dim3::check_generic_surface(helix).intersecting_pairs;
     figures::expect(before > 0, "Fig. 1: the helix's consecutive turns overlap");
 
-    dim3::ImmerseOptions io;
-    io.build.exact_volumes = false;
-    const dim3::Immersed im = dim3::immerse_surface(helix, io);
-    figures::expect(im.build.complex && !im.search.immersions.empty(), "the helix is immersible");
     dim3::MeshOptions options;
     options.resolution = args.quick ? 12 : 24;
-    const dim3::MeshResult mesh =
-        dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
-    figures::expect(mesh.report.ok(), mesh.report.summary());
-    const deform::DeformableInput<3> in = deform::deformable(mesh);
+    const auto [im, mesh, in] = figures::immerse_and_mesh(helix, options, "the helix");
 
     const double lift = 0.5 * loops;
     const Pulled unglued = pull(in.unglued, in.unglued_embedding, helix, lift);

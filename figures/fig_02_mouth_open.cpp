@@ -108,16 +108,9 @@ int main(int argc, char** argv) {
     const figures::Crossings before = figures::crossings(input);
     figures::expect(before.pairs > 0, "Fig. 2: the lip pierces the chin: the input intersects itself");
 
-    dim3::ImmerseOptions io;
-    io.build.exact_volumes = false;
-    const dim3::Immersed im = dim3::immerse_surface(input, io);
-    figures::expect(im.build.complex && !im.search.immersions.empty(), "the head is immersible");
     dim3::MeshOptions options;
     options.resolution = args.quick ? 12 : 18;
-    const dim3::MeshResult mesh =
-        dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
-    figures::expect(mesh.report.ok(), mesh.report.summary());
-    const deform::DeformableInput<3> in = deform::deformable(mesh);
+    const auto [im, mesh, in] = figures::immerse_and_mesh(input, options, "the head");
 
     // Fixed: the back of the head (x < 0; the lip is all at x > 0.9). Driven: the lip's lower
     // strand outside the head (below the bend's centre, more than 1.05 from the head's centre;

@@ -47,16 +47,9 @@ int main(int argc, char** argv) {
     const std::vector<int> part = figures::surface_parts(input, parts);
     figures::expect(parts == branches, "the generated tree: one closed surface per branch (" + std::to_string(branches) + ")");
 
-    dim3::ImmerseOptions io;
-    io.build.exact_volumes = false;
-    const dim3::Immersed im = dim3::immerse_surface(input, io);
-    figures::expect(im.build.complex && !im.search.immersions.empty(), "the tree is immersible");
     dim3::MeshOptions options;
     options.resolution = args.quick ? 16 : 24;
-    const dim3::MeshResult mesh =
-        dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
-    figures::expect(mesh.report.ok(), mesh.report.summary());
-    const deform::DeformableInput<3> in = deform::deformable(mesh);
+    const auto [im, mesh, in] = figures::immerse_and_mesh(input, options, "the tree");
     int unglued_components = 0, glued_components = 0;
     deform::vertex_components(in.unglued.vertex_count(), in.unglued.elements, unglued_components);
     deform::vertex_components(in.glued.mesh.vertex_count(), in.glued.mesh.elements, glued_components);

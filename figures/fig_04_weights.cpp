@@ -71,16 +71,9 @@ int main(int argc, char** argv) {
     const std::vector<int> part = figures::surface_parts(input, parts);
     figures::expect(parts == 5, "Sacht's model (small): a torus and 4 columns through its tube, 5 solids");
 
-    dim3::ImmerseOptions io;
-    io.build.exact_volumes = false;
-    const dim3::Immersed im = dim3::immerse_surface(input, io);
-    figures::expect(im.build.complex && !im.search.immersions.empty(), "the model is immersible");
     dim3::MeshOptions options;
     options.resolution = args.quick ? 20 : 26;
-    const dim3::MeshResult meshed =
-        dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
-    figures::expect(meshed.report.ok(), meshed.report.summary());
-    const deform::DeformableInput<3> in = deform::deformable(meshed);
+    const auto [im, meshed, in] = figures::immerse_and_mesh(input, options, "the model");
 
     // Part 0 is the torus (the generator's first vertices), part 1 the column through which A's
     // weight could leak: its axis from the mean of its lowest to the mean of its highest cap.

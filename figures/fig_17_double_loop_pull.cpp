@@ -107,17 +107,10 @@ int main(int argc, char** argv) {
       displacement.push_back(kPull * (away + std::abs(away.dot(radial)) * radial));
     }
 
-    dim3::ImmerseOptions io;
-    io.build.exact_volumes = false;
-    const dim3::Immersed im = dim3::immerse_surface(torus, io);
-    figures::expect(im.build.complex && !im.search.immersions.empty() && !im.helper_boxes.empty(),
-                    "with a helper box the double-loop torus is immersible");
     dim3::MeshOptions options;
     options.resolution = args.quick ? 20 : 28;
-    const dim3::MeshResult mesh =
-        dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
-    figures::expect(mesh.report.ok(), mesh.report.summary());
-    const deform::DeformableInput<3> in = deform::deformable(mesh);
+    const auto [im, mesh, in] = figures::immerse_and_mesh(torus, options, "the double-loop torus");
+    figures::expect(!im.helper_boxes.empty(), "the double-loop torus is immersible with a helper box");
 
     const Pulled unglued = pull(in.unglued, in.unglued_embedding, torus, rings, displacement);
     const Pulled glued = pull(in.glued.mesh, in.glued_embedding, torus, rings, displacement);

@@ -75,16 +75,9 @@ void run_real(const figures::FigureArgs& args, const std::string& obj, const std
   const figures::Crossings before = figures::crossings(input);
   figures::expect(before.pairs > 0, "Fig. 22: the arms of the paper's quintuple torus collide");
 
-  dim3::ImmerseOptions io;
-  io.build.exact_volumes = false;
-  const dim3::Immersed im = dim3::immerse_surface(input, io);
-  figures::expect(im.build.complex && !im.search.immersions.empty(), "quintupleTorus.obj is immersible");
   dim3::MeshOptions options;
   options.background_path = veg;
-  const dim3::MeshResult mesh =
-      dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
-  figures::expect(mesh.report.ok(), mesh.report.summary());
-  const deform::DeformableInput<3> in = deform::deformable(mesh);
+  const auto [im, mesh, in] = figures::immerse_and_mesh(input, options, "quintupleTorus.obj");
 
   // Held: the plate (y >= -0.5: the genus-5 ring spans y in [-0.5, 0.5]); free: the arms below
   // it. Gravity along -y (the arms hang down), the ground 0.5 below the lowest vertex.
@@ -184,16 +177,9 @@ int main(int argc, char** argv) {
     const std::vector<int> part = figures::surface_parts(input, parts);
     figures::expect(parts == 12, "the generated quintuple torus: 5 tori and 7 cylinders, 12 solids");
 
-    dim3::ImmerseOptions io;
-    io.build.exact_volumes = false;
-    const dim3::Immersed im = dim3::immerse_surface(input, io);
-    figures::expect(im.build.complex && !im.search.immersions.empty(), "the quintuple torus is immersible");
     dim3::MeshOptions options;
     options.resolution = args.quick ? 14 : 20;
-    const dim3::MeshResult mesh =
-        dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
-    figures::expect(mesh.report.ok(), mesh.report.summary());
-    const deform::DeformableInput<3> in = deform::deformable(mesh);
+    const auto [im, mesh, in] = figures::immerse_and_mesh(input, options, "the quintuple torus");
 
     // Held: the five tori (the first five parts). Free: the seven cylinders. Ground 4.5 below
     // the ring (z = 0): the tilted cylinders (half-length 1.6 + caps) land with their tops below

@@ -76,16 +76,9 @@ int main(int argc, char** argv) {
     const std::vector<int> part = figures::surface_parts(input, parts);
     figures::expect(parts == 5, "Sacht's model (small): a torus and 4 columns, 5 solids");
 
-    dim3::ImmerseOptions io;
-    io.build.exact_volumes = false;
-    const dim3::Immersed im = dim3::immerse_surface(input, io);
-    figures::expect(im.build.complex && !im.search.immersions.empty(), "the model is immersible");
     dim3::MeshOptions options;
     options.resolution = args.quick ? 20 : 40;
-    const dim3::MeshResult mesh =
-        dim3::mesh_immersion(*im.build.complex, im.search.immersions[0], options, im.input_vertices, im.input_triangles);
-    figures::expect(mesh.report.ok(), mesh.report.summary());
-    const deform::DeformableInput<3> in = deform::deformable(mesh);
+    const auto [im, mesh, in] = figures::immerse_and_mesh(input, options, "the model");
 
     // Lifted: the caps of every column (vertices within 0.1 of its top or bottom vertex). Fixed:
     // the torus's vertices within 0.15 of its four extreme points in x and y.
