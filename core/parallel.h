@@ -27,6 +27,14 @@ inline double thread_cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
+/// CPU seconds the whole process has used so far, all threads (POSIX CLOCK_PROCESS_CPUTIME_ID):
+/// the work of a stage that runs on several threads, which the calling thread's clock misses.
+inline double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 /// The thread count to use for a request of `threads` (0 = one per hardware thread).
 inline unsigned resolve_threads(unsigned threads) {
   return threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());

@@ -49,17 +49,22 @@ struct Potential {
   /// assembly after an accepted line-search trial.
   using Rotations = std::vector<Eigen::Matrix<double, D, D>>;
 
-  /// The potential at `x`; `rotations` (if given) receives each element's rotation.
+  /// The potential at `x`; `rotations` (if given) receives each element's rotation. The elements'
+  /// energies are computed on options.threads threads and summed in element order, so the value
+  /// does not depend on the thread count.
   [[nodiscard]] double value(const Eigen::MatrixXd& x, Rotations* rotations = nullptr) const {
     const double mu = options.material.mu(), lambda = options.material.lambda();
-    double total = 0.0;
-    if (rotations != nullptr) rotations->resize(static_cast<std::size_t>(data.rest.element_count()));
-    for (Eigen::Index e = 0; e < data.rest.element_count(); ++e) {
-      const Eigen::Matrix<double, D, D> f = gradient_of(x, e), r = closest_rotation<D>(f);
-      if (rotations != nullptr) (*rotations)[static_cast<std::size_t>(e)] = r;
+    const auto m = static_cast<std::size_t>(data.rest.element_count());
+    if (rotations != nullptr) rotations->resize(m);
+    std::vector<double> energies(m);
+    parallel_for(resolve_threads(options.threads), m, [&](std::size_t e, unsigned) {
+      const Eigen::Matrix<double, D, D> f = gradient_of(x, static_cast<Eigen::Index>(e)), r = closest_rotation<D>(f);
+      if (rotations != nullptr) (*rotations)[e] = r;
       const double trace = (r.transpose() * f).trace() - D;
-      total += data.geometry[static_cast<std::size_t>(e)].volume * (mu * (f - r).squaredNorm() + 0.5 * lambda * trace * trace);
-    }
+      energies[e] = data.geometry[e].volume * (mu * (f - r).squaredNorm() + 0.5 * lambda * trace * trace);
+    }, 1024);
+    double total = 0.0;
+    for (double energy : energies) total += energy;
     for (Eigen::Index v = 0; v < x.rows(); ++v) {
       const double m = data.mass[v];
       if (inertia_weight > 0.0) total += 0.5 * inertia_weight * m * (x.row(v) - predicted.row(v)).squaredNorm();
@@ -72,91 +77,131 @@ struct Potential {
     return total;
   }
 
+  static constexpr int N = D * (D + 1);
+  /// One element's share of the gradient and the Newton matrix.
+  struct ElementTerms {
+    Eigen::Matrix<double, D, D + 1> forces;  ///< column i: dE/dx_i
+    Eigen::Matrix<double, N, N> matrix;      ///< d2E/dx2, vertex-major (i * D + axis)
+  };
+
+  /// The element's forces and, if `with_matrix`, its block of the Newton matrix `hessian`.
+  /// `rotations`: value()'s at these `x`, or nullptr.
+  void element_terms(const Eigen::MatrixXd& x, Eigen::Index e, bool with_matrix, NewtonMatrix hessian,
+                     const Rotations* rotations, ElementTerms& out) const {
+    using Square = Eigen::Matrix<double, D, D>;
+    const double mu = options.material.mu(), lambda = options.material.lambda();
+    const ElementGeometry<D>& g = data.geometry[static_cast<std::size_t>(e)];
+    const Square f = gradient_of(x, e);
+    // Signed SVD F = U diag(s) V^T with det(U V^T) = +1 (the last singular value negated for
+    // an inverted F): R = U V^T is closest_rotation(F), S = V diag(s) V^T, tr S = sum s.
+    // For det F > 0 (all but inverted elements) from the polar decomposition F = R S (the
+    // scaled Newton iteration of closest_rotation, as the potential's value uses) and the
+    // closed-form eigenvectors of the symmetric S: 2-3 times cheaper than the Jacobi SVD,
+    // which was half of the assembly. The stress needs only R and tr S (exact to round-off);
+    // the closed form's lesser accuracy on clustered s touches only the Newton matrix, whose
+    // twist terms of equal s_k + s_l sum to the same matrix for any basis of the cluster.
+    Square u, v, r;
+    Eigen::Matrix<double, D, 1> s;
+    double trace = 0.0;
+    if (f.determinant() > 0.0) {
+      r = rotations != nullptr ? (*rotations)[static_cast<std::size_t>(e)] : closest_rotation<D>(f);
+      const Square rf = r.transpose() * f;
+      Eigen::SelfAdjointEigenSolver<Square> eigen;
+      eigen.computeDirect(0.5 * (rf + rf.transpose()));
+      v = eigen.eigenvectors();
+      s = eigen.eigenvalues();
+      u = r * v;
+      trace = rf.trace() - D;
+    } else {
+      const Eigen::JacobiSVD<Square> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      u = svd.matrixU();
+      v = svd.matrixV();
+      s = svd.singularValues();
+      if ((u * v.transpose()).determinant() < 0.0) {
+        u.col(D - 1) *= -1.0;
+        s[D - 1] *= -1.0;
+      }
+      r = u * v.transpose();
+      trace = s.sum() - D;
+    }
+    const Square stress = 2.0 * mu * (f - r) + lambda * trace * r;  // first Piola-Kirchhoff
+    out.forces = g.volume * stress * g.gradients.transpose();  // column i: dE/dx_i
+    if (!with_matrix) return;
+    // dP = 2 mu dF + lambda (R:dF) R + (lambda tr(S - I) - 2 mu) dR, and dR vanishes on the
+    // dF that are symmetric in the (U, V) frame, while the twists Q_kl = U (e_k e_l^T - e_l
+    // e_k^T) V^T / sqrt 2 are its eigenvectors with eigenvalue 2 / (s_k + s_l) (and R:Q_kl =
+    // 0). So d2Psi/dF2 = 2 mu I + lambda r r^T + sum_kl c_kl q_kl q_kl^T with c_kl = (lambda
+    // tr(S - I) - 2 mu) 2 / (s_k + s_l): eigenvalues 2 mu + c_kl on the twists (negative under
+    // compression; the projected matrix clamps them to 0, Smith et al. 2019's analytic
+    // projection), the others >= 2 mu (lambda >= 0). With dF =
+    // sum_i dx_i b_i^T, a matrix A enters the element matrix as the vector (A b_i)_i.
+    Eigen::Matrix<double, N, N>& k = out.matrix;
+    k.setZero();
+    const Eigen::Matrix<double, D + 1, D + 1> shape = g.gradients * g.gradients.transpose();
+    for (int i = 0; i < D + 1; ++i)
+      for (int j = 0; j < D + 1; ++j) k.template block<D, D>(i * D, j * D).diagonal().setConstant(2.0 * mu * shape(i, j));
+    Eigen::Matrix<double, N, 1> column;
+    for (int i = 0; i < D + 1; ++i) column.template segment<D>(i * D) = r * g.gradients.row(i).transpose();
+    k.noalias() += lambda * column * column.transpose();
+    if (hessian != NewtonMatrix::fixed_rotation) {
+      const Eigen::Matrix<double, D, D + 1> vb = v.transpose() * g.gradients.transpose();
+      for (int a = 0; a < D; ++a)
+        for (int b = a + 1; b < D; ++b) {
+          const double denominator = s[a] + s[b];
+          // s_a + s_b <= 0 only in a strongly inverted element, where R jumps: keep R fixed there.
+          if (!(denominator > 0.0)) continue;
+          const double c = (lambda * trace - 2.0 * mu) * 2.0 / denominator;
+          for (int i = 0; i < D + 1; ++i)
+            column.template segment<D>(i * D) = (u.col(a) * vb(b, i) - u.col(b) * vb(a, i)) * std::sqrt(0.5);
+          k.noalias() += (hessian == NewtonMatrix::exact ? c : std::max(c, -2.0 * mu)) * column * column.transpose();
+        }
+    }
+    k *= g.volume;
+  }
+
   /// Gradient (n x D) and, when `pattern` is given, the Newton matrix `hessian` on the free
   /// degrees of freedom written into pattern->matrix's values (its sparsity is fixed per mesh, so
   /// the factorization's symbolic analysis is done once). `rotations`: value()'s at these `x`, or
-  /// nullptr.
+  /// nullptr. On options.threads threads, chunk by chunk of elements: the elements' terms in
+  /// parallel, then each thread adds them into the rows and columns of its own range of vertices,
+  /// in element order; so every entry is summed in the same order as on one thread, and the
+  /// result does not depend on the thread count.
   void gradient_and_hessian(const Eigen::MatrixXd& x, HessianPattern* pattern, NewtonMatrix hessian,
                             Eigen::MatrixXd& gradient, const Rotations* rotations = nullptr) const {
-    constexpr int N = D * (D + 1);
-    using Square = Eigen::Matrix<double, D, D>;
-    const double mu = options.material.mu(), lambda = options.material.lambda();
     gradient.setZero(x.rows(), D);
     double* values = nullptr;
     if (pattern != nullptr) {
       pattern->matrix.coeffs().setZero();
       values = pattern->matrix.valuePtr();
     }
-    for (Eigen::Index e = 0; e < data.rest.element_count(); ++e) {
-      const ElementGeometry<D>& g = data.geometry[static_cast<std::size_t>(e)];
-      const Square f = gradient_of(x, e);
-      // Signed SVD F = U diag(s) V^T with det(U V^T) = +1 (the last singular value negated for
-      // an inverted F): R = U V^T is closest_rotation(F), S = V diag(s) V^T, tr S = sum s.
-      // For det F > 0 (all but inverted elements) from the polar decomposition F = R S (the
-      // scaled Newton iteration of closest_rotation, as the potential's value uses) and the
-      // closed-form eigenvectors of the symmetric S: 2-3 times cheaper than the Jacobi SVD,
-      // which was half of the assembly. The stress needs only R and tr S (exact to round-off);
-      // the closed form's lesser accuracy on clustered s touches only the Newton matrix, whose
-      // twist terms of equal s_k + s_l sum to the same matrix for any basis of the cluster.
-      Square u, v, r;
-      Eigen::Matrix<double, D, 1> s;
-      double trace = 0.0;
-      if (f.determinant() > 0.0) {
-        r = rotations != nullptr ? (*rotations)[static_cast<std::size_t>(e)] : closest_rotation<D>(f);
-        const Square rf = r.transpose() * f;
-        Eigen::SelfAdjointEigenSolver<Square> eigen;
-        eigen.computeDirect(0.5 * (rf + rf.transpose()));
-        v = eigen.eigenvectors();
-        s = eigen.eigenvalues();
-        u = r * v;
-        trace = rf.trace() - D;
-      } else {
-        const Eigen::JacobiSVD<Square> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
-        u = svd.matrixU();
-        v = svd.matrixV();
-        s = svd.singularValues();
-        if ((u * v.transpose()).determinant() < 0.0) {
-          u.col(D - 1) *= -1.0;
-          s[D - 1] *= -1.0;
-        }
-        r = u * v.transpose();
-        trace = s.sum() - D;
-      }
-      const Square stress = 2.0 * mu * (f - r) + lambda * trace * r;  // first Piola-Kirchhoff
-      const Eigen::Matrix<double, D, D + 1> forces = g.volume * stress * g.gradients.transpose();  // column i: dE/dx_i
-      for (int i = 0; i < D + 1; ++i) gradient.row(data.rest.elements(e, i)) += forces.col(i).transpose();
-      if (pattern == nullptr) continue;
-      // dP = 2 mu dF + lambda (R:dF) R + (lambda tr(S - I) - 2 mu) dR, and dR vanishes on the
-      // dF that are symmetric in the (U, V) frame, while the twists Q_kl = U (e_k e_l^T - e_l
-      // e_k^T) V^T / sqrt 2 are its eigenvectors with eigenvalue 2 / (s_k + s_l) (and R:Q_kl =
-      // 0). So d2Psi/dF2 = 2 mu I + lambda r r^T + sum_kl c_kl q_kl q_kl^T with c_kl = (lambda
-      // tr(S - I) - 2 mu) 2 / (s_k + s_l): eigenvalues 2 mu + c_kl on the twists (negative under
-      // compression; the projected matrix clamps them to 0, Smith et al. 2019's analytic
-      // projection), the others >= 2 mu (lambda >= 0). With dF =
-      // sum_i dx_i b_i^T, a matrix A enters the element matrix as the vector (A b_i)_i.
-      Eigen::Matrix<double, N, N> k = Eigen::Matrix<double, N, N>::Zero();
-      const Eigen::Matrix<double, D + 1, D + 1> shape = g.gradients * g.gradients.transpose();
-      for (int i = 0; i < D + 1; ++i)
-        for (int j = 0; j < D + 1; ++j) k.template block<D, D>(i * D, j * D).diagonal().setConstant(2.0 * mu * shape(i, j));
-      Eigen::Matrix<double, N, 1> column;
-      for (int i = 0; i < D + 1; ++i) column.template segment<D>(i * D) = r * g.gradients.row(i).transpose();
-      k.noalias() += lambda * column * column.transpose();
-      if (hessian != NewtonMatrix::fixed_rotation) {
-        const Eigen::Matrix<double, D, D + 1> vb = v.transpose() * g.gradients.transpose();
-        for (int a = 0; a < D; ++a)
-          for (int b = a + 1; b < D; ++b) {
-            const double denominator = s[a] + s[b];
-            // s_a + s_b <= 0 only in a strongly inverted element, where R jumps: keep R fixed there.
-            if (!(denominator > 0.0)) continue;
-            const double c = (lambda * trace - 2.0 * mu) * 2.0 / denominator;
-            for (int i = 0; i < D + 1; ++i)
-              column.template segment<D>(i * D) = (u.col(a) * vb(b, i) - u.col(b) * vb(a, i)) * std::sqrt(0.5);
-            k.noalias() += (hessian == NewtonMatrix::exact ? c : std::max(c, -2.0 * mu)) * column * column.transpose();
+    using Square = Eigen::Matrix<double, D, D>;
+    const unsigned threads = resolve_threads(options.threads);
+    const Eigen::Index n = x.rows(), m = data.rest.element_count();
+    // 4096 elements' terms are 4.7 MB in 3D: the chunk stays in cache between its two passes.
+    constexpr Eigen::Index kChunk = 4096;
+    std::vector<ElementTerms> terms(static_cast<std::size_t>(std::min(m, kChunk)));
+    for (Eigen::Index begin = 0; begin < m; begin += kChunk) {
+      const Eigen::Index count = std::min(m - begin, kChunk);
+      parallel_for(threads, static_cast<std::size_t>(count), [&](std::size_t i, unsigned) {
+        element_terms(x, begin + static_cast<Eigen::Index>(i), pattern != nullptr, hessian, rotations, terms[i]);
+      }, 256);
+      parallel_for(threads, threads, [&](std::size_t w, unsigned) {
+        const Eigen::Index low = n * static_cast<Eigen::Index>(w) / threads, high = n * static_cast<Eigen::Index>(w + 1) / threads;
+        for (Eigen::Index i = 0; i < count; ++i) {
+          const Eigen::Index e = begin + i;
+          const ElementTerms& t = terms[static_cast<std::size_t>(i)];
+          for (int j = 0; j < D + 1; ++j) {  // column vertex: its gradient row and its D matrix columns
+            const Eigen::Index v = data.rest.elements(e, j);
+            if (v < low || v >= high) continue;
+            gradient.row(v) += t.forces.col(j).transpose();
+            if (values == nullptr) continue;
+            const int* slots = pattern->element_slots.data() + static_cast<std::size_t>(e) * N * N + static_cast<std::size_t>(j) * D * N;
+            const double* column = t.matrix.data() + static_cast<std::ptrdiff_t>(j) * D * N;
+            for (int q = 0; q < D * N; ++q)
+              if (slots[q] >= 0) values[slots[q]] += column[q];
           }
-      }
-      const int* slots = pattern->element_slots.data() + static_cast<std::size_t>(e) * N * N;
-      for (int q = 0; q < N * N; ++q)
-        if (slots[q] >= 0) values[slots[q]] += g.volume * k(q % N, q / N);
+        }
+      }, 1);
     }
     for (Eigen::Index v = 0; v < x.rows(); ++v) {
       const double m = data.mass[v];
@@ -308,11 +353,12 @@ PcgStatus preconditioned_cg(const Eigen::SparseMatrix<double>& a, const SparseCh
   return PcgStatus::too_many_iterations;
 }
 
-/// Adds the calling thread's CPU time from construction to destruction to `seconds`.
+/// Adds the process's CPU time (all threads: the element loops run on several) from construction
+/// to destruction to `seconds`.
 class StageTimer {
  public:
-  explicit StageTimer(double& seconds) : seconds_(seconds), start_(thread_cpu_seconds()) {}
-  ~StageTimer() { seconds_ += thread_cpu_seconds() - start_; }
+  explicit StageTimer(double& seconds) : seconds_(seconds), start_(process_cpu_seconds()) {}
+  ~StageTimer() { seconds_ += process_cpu_seconds() - start_; }
   StageTimer(const StageTimer&) = delete;
   StageTimer& operator=(const StageTimer&) = delete;
 
@@ -356,6 +402,11 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     else d = -1;
   // (the loop above numbers the free degrees of freedom in vertex-major order)
 
+  if (free_count == 0) {  // every vertex placed by the user: nothing to solve (nor to factor)
+    report.converged = true;
+    report.objective = potential.value(x);
+    return report;
+  }
   // One pattern, ordering and symbolic factorization per solver (a simulation), unless the
   // mesh or the fixed set changed; CHOLMOD's supernodal numeric factorization when needed.
   if (solver.dof != dof || solver.elements.rows() != data.rest.elements.rows() ||

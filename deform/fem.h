@@ -64,6 +64,9 @@ struct FemOptions {
   /// the gradient falls, down to pcg_tolerance |gradient|: the step is then the Newton step to
   /// about that relative accuracy, so the step test above keeps its meaning.
   double pcg_tolerance = 1e-4;
+  /// Threads for the element loops (0 = all cores). The results do not depend on it: every
+  /// sum is taken in element order.
+  unsigned threads = 0;
 };
 
 template <int D>
@@ -83,7 +86,7 @@ struct FemState {
   Eigen::MatrixXd velocities;  ///< n x D
 };
 
-/// CPU seconds (calling thread) per stage of one solve.
+/// CPU seconds per stage of one solve (the process's: all threads).
 struct FemSeconds {
   double analysis = 0.0;       ///< sparsity pattern and symbolic factorization (once per FemSolver)
   double assembly = 0.0;       ///< per-element SVDs, gradient and Newton matrix

@@ -1,7 +1,10 @@
 #include "deform/sparse_cholesky.h"
 
 #ifdef IMM_HAVE_CHOLMOD
+#include <omp.h>
+
 #include <Eigen/CholmodSupport>
+#include <mutex>
 #else
 #include <Eigen/SparseCholesky>
 #endif
@@ -9,6 +12,50 @@
 namespace imm::deform {
 
 #ifdef IMM_HAVE_CHOLMOD
+namespace {
+
+/// Debian's CHOLMOD 3 runs parts of its supernodal factorization in OpenMP teams of a fixed 4
+/// threads (`num_threads(4)` clauses, which OMP_NUM_THREADS does not lower), whatever the cores.
+/// Measured on 2 cores (BENCHMARKS.md, "CHOLMOD without its OpenMP team"): the team's spinning
+/// and futex traffic doubled the CPU time of the weights and made wall time swing by 3x under
+/// load, and it gained nothing on an idle machine. So CHOLMOD runs with OpenMP's
+/// max-active-levels at 0 (every parallel region a team of one), as OMP_THREAD_LIMIT=1 would do.
+/// That setting is process-wide in libgomp: it is lowered while any CHOLMOD call of this file
+/// runs and restored when the last one returns, so a host program's own OpenMP is left alone
+/// outside those calls.
+class SerialOpenMp {
+ public:
+  SerialOpenMp() {
+    const std::lock_guard<std::mutex> lock(mutex());
+    if (depth()++ == 0) {
+      saved() = omp_get_max_active_levels();
+      omp_set_max_active_levels(0);
+    }
+  }
+  ~SerialOpenMp() {
+    const std::lock_guard<std::mutex> lock(mutex());
+    if (--depth() == 0) omp_set_max_active_levels(saved());
+  }
+  SerialOpenMp(const SerialOpenMp&) = delete;
+  SerialOpenMp& operator=(const SerialOpenMp&) = delete;
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  static int& depth() {
+    static int d = 0;
+    return d;
+  }
+  static int& saved() {
+    static int s = 0;
+    return s;
+  }
+};
+
+}  // namespace
+
 /// Eigen's wrapper, opened up for the permutation CHOLMOD chose (its factor is a protected member).
 class CholmodFactor : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> {
  public:
@@ -26,6 +73,7 @@ bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse use
   impl_ = std::make_unique<Impl>();
   impl_->factor.cholmod().print = 0;  // a refused matrix is reported by the return value, not on stderr
   impl_->factor.setMode(use == FactorUse::solve_often ? Eigen::CholmodSimplicialLLt : Eigen::CholmodSupernodalLLt);
+  const SerialOpenMp serial;
   impl_->factor.compute(a);
   return impl_->factor.info() == Eigen::Success;
 }
@@ -43,6 +91,7 @@ bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse use
   impl_->given_order = ordering;
   Eigen::SparseMatrix<double> permuted;
   permuted = a.twistedBy(impl_->given);
+  const SerialOpenMp serial;
   impl_->factor.compute(permuted);
   return impl_->factor.info() == Eigen::Success;
 }
@@ -59,6 +108,7 @@ std::vector<Eigen::Index> SparseCholesky::ordering() const {
 }
 
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
+  const SerialOpenMp serial;
   if (impl_->given_order.empty()) return impl_->factor.solve(b);
   const Eigen::MatrixXd permuted = impl_->given * b;
   return impl_->given.inverse() * Eigen::MatrixXd(impl_->factor.solve(permuted));
@@ -68,10 +118,12 @@ void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& pattern, FactorU
   impl_ = std::make_unique<Impl>();
   impl_->factor.cholmod().print = 0;
   impl_->factor.setMode(use == FactorUse::solve_often ? Eigen::CholmodSimplicialLLt : Eigen::CholmodSupernodalLLt);
+  const SerialOpenMp serial;
   impl_->factor.analyzePattern(pattern);
 }
 
 bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& a) {
+  const SerialOpenMp serial;
   impl_->factor.factorize(a);
   return impl_->factor.info() == Eigen::Success;
 }
