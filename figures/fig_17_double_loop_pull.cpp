@@ -291,9 +291,11 @@ int main(int argc, char** argv) {
     // to the -x side), along the straight path between the two lifted in z by 4 s (1 - s) kLift
     // sin(t / 2): the two strands' heights get further apart the way they already differ, so the
     // core's crossing in the xy projection shrinks into a cusp and disappears above the other
-    // strand (a Reidemeister I move), never meeting it. The handles (every other ring) follow the
-    // path's core points and its rotation-minimizing frames in warm-started steps; only the end
-    // is checked (the tube may pass through itself on the way: ARAP has no contact).
+    // strand (a Reidemeister I move) without the core meeting itself (sampled every 0.02 in s,
+    // core points over 1.2 apart along it stay over 0.74 apart, more than the tube's diameter;
+    // lifted the other way it passes through itself, which the twist check below sees). The
+    // handles (every other ring) follow the path's core points and its rotation-minimizing
+    // frames in warm-started steps; only the end is checked (ARAP has no contact).
     constexpr double kLift = 0.8;
     const int loop_steps = args.quick ? 8 : 16;
     double length = 0;
@@ -341,8 +343,8 @@ int main(int argc, char** argv) {
     figures::expect(std::lround(input_turns) == 2, "the input's core winds twice around the z axis");
     figures::expect(std::lround(loop_turns) == 1,
                     "Fig. 17 (last column): the unglued mesh deformed further: its core (ring centroids) winds once around the z axis");
-    // The rings' frames are carried continuously along the path (their roll about the core
-    // changes by less than pi per step), so the linking number of the core with the rings' up
+    // The rings' frames are carried continuously along the path (the roll closing each curve's
+    // frames is taken within pi of the previous curve's), so the linking number of the core with the rings' up
     // direction is kept. On the input it is the writhe of the core's xy projection (the up
     // direction is z there: the blackboard framing), on the horizontal circle the rings' twist
     // (Calugareanu: linking = twist + writhe, and a plane curve has no writhe). Paths whose
