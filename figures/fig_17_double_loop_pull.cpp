@@ -42,9 +42,9 @@ struct Deformed {
   dim3::Surface surface;
   figures::Crossings crossing;
   std::size_t inverted = 0;
-  int iterations = 0;         ///< ARAP iterations over all steps
-  double energy = 0.0;        ///< ARAP energy at the end, over the rest volume
-  double cpu_seconds = 0.0;   ///< process CPU of the precomputation and the steps
+  int iterations = 0;        ///< ARAP iterations over all steps
+  double energy = 0.0;       ///< ARAP energy at the end, over the rest volume
+  double cpu_seconds = 0.0;  ///< process CPU of the precomputation and the steps
 };
 
 /// Process CPU seconds (every thread: the ARAP local step is threaded).
