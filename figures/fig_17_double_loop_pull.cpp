@@ -20,7 +20,6 @@
 #include "figures/deform_common.h"
 #include "figures/figure_common.h"
 
-#include <ctime>
 #include <iomanip>
 #include <map>
 #include <numbers>
@@ -46,13 +45,6 @@ struct Deformed {
   double energy = 0.0;       ///< ARAP energy at the end, over the rest volume
   double cpu_seconds = 0.0;  ///< process CPU of the precomputation and the steps
 };
-
-/// Process CPU seconds (every thread: the ARAP local step is threaded).
-double process_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 /// Volumetric ARAP whose handles are the carrying vertices of each ring's input vertices, moved
 /// by the ring's pose (averaged where a mesh vertex carries several rings: on the glued mesh the

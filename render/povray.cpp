@@ -399,8 +399,17 @@ RenderStatus render_png(const Scene& scene, const std::string& png_path, const R
                                 "-D", "-V", "-P", "-J", "-GD", "-GR", "-GS", "-GW"};
   if (options.antialias) argv.insert(argv.end(), {"+A0.2", "+AM2", "+R2"});
   if (options.threads > 0) argv.push_back("+WT" + std::to_string(options.threads));
-  const ProcessResult run = run_process(argv, dir.string(), options.timeout_seconds);
+  // POV-Ray 3.7's front end gives up when its render threads take too long to start, which
+  // happens on a loaded machine ("Timed out waiting for worker thread startup", exit 1, seen
+  // about once in a few hundred pictures while others compiled); that one failure is retried.
+  ProcessResult run = run_process(argv, dir.string(), options.timeout_seconds);
   status.seconds = run.seconds;
+  for (int retry = 0; retry < 2 && !run.ok() && run.started && !run.timed_out &&
+                      run.output.find("Timed out waiting for worker thread startup") != std::string::npos;
+       ++retry) {
+    run = run_process(argv, dir.string(), options.timeout_seconds);
+    status.seconds += run.seconds;
+  }
   if (!run.ok()) {
     clean();
     if (!run.started) {

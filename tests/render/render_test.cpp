@@ -426,6 +426,32 @@ TEST(RenderFailure, MissingRendererIsAClearErrorAndWritesNothing) {
   EXPECT_TRUE(fs::is_empty(dir));
 }
 
+// POV-Ray's front end sometimes gives up on a loaded machine before its render threads start
+// ("Timed out waiting for worker thread startup"): that failure is retried, any other is not.
+// The stand-in fails that way on its first run, then hands over to the real renderer.
+TEST(RenderFailure, WorkerThreadStartupTimeoutIsRetried) {
+  REQUIRE_POVRAY();
+  const fs::path dir = scratch("flaky");
+  const fs::path marker = dir / "failed-once";
+  const fs::path flaky = dir / "flaky-povray.sh";
+  {
+    std::ofstream(flaky) << "#!/bin/sh\nif [ ! -e '" << marker.string() << "' ]; then touch '" << marker.string()
+                         << "'; echo 'Render failed' >&2; echo 'Timed out waiting for worker thread startup' >&2; exit 1; fi\n"
+                         << "exec povray \"$@\"\n";
+  }
+  fs::permissions(flaky, fs::perms::owner_all);
+  Scene scene;
+  scene.parts.push_back(box_part({0, 0, 0}, {1, 1, 1}, palette(0)));
+  RenderOptions options;
+  options.povray = flaky.string();
+  options.width = 64;
+  options.height = 48;
+  const RenderStatus status = render_png(scene, (dir / "x.png").string(), options);
+  EXPECT_TRUE(status.ok()) << status.error;
+  EXPECT_TRUE(fs::exists(marker));
+  EXPECT_TRUE(fs::exists(dir / "x.png"));
+}
+
 TEST(RenderFailure, SlowOrFailingRendererLeavesTheOldPictureAndNoTemporaries) {
   const fs::path dir = scratch("slow");
   const fs::path png = dir / "keep.png";
