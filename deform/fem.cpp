@@ -307,17 +307,20 @@ HessianPattern hessian_pattern(const SimplexMesh<D>& mesh, const std::vector<Eig
 }
 
 /// y = A p for `a` symmetric with both triangles stored (column-major): y_j = column j . p, one
-/// dot product per column, in order (serial and deterministic, whatever Eigen's threading).
-void symmetric_product(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& p, Eigen::VectorXd& y) {
+/// dot product per column, each summed in order: deterministic, and the same on any number of
+/// threads (blocks of columns on `threads` threads).
+void symmetric_product(const Eigen::SparseMatrix<double>& a, const Eigen::VectorXd& p, Eigen::VectorXd& y, unsigned threads) {
   y.resize(a.cols());
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   const double* values = a.valuePtr();
-  for (Eigen::Index j = 0; j < a.cols(); ++j) {
-    double sum = 0.0;
-    for (int k = outer[j]; k < outer[j + 1]; ++k) sum += values[k] * p[inner[k]];
-    y[j] = sum;
-  }
+  parallel_blocks(threads, static_cast<std::size_t>(a.cols()), 4096, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j) {
+      double sum = 0.0;
+      for (int k = outer[j]; k < outer[j + 1]; ++k) sum += values[k] * p[inner[k]];
+      y[static_cast<Eigen::Index>(j)] = sum;
+    }
+  });
 }
 
 enum class PcgStatus { converged, negative_curvature, too_many_iterations };
@@ -329,7 +332,7 @@ enum class PcgStatus { converged, negative_curvature, too_many_iterations };
 /// Written here rather than with Eigen's ConjugateGradient, which divides by a non-positive
 /// curvature without saying so: that signal is what switches the step to the projected matrix.
 PcgStatus preconditioned_cg(const Eigen::SparseMatrix<double>& a, const SparseCholesky& m, const Eigen::VectorXd& b,
-                            double tolerance, int max_iterations, Eigen::VectorXd& x, int& iterations) {
+                            double tolerance, int max_iterations, unsigned threads, Eigen::VectorXd& x, int& iterations) {
   x.setZero(b.size());
   iterations = 0;
   const double stop = tolerance * b.norm();
@@ -338,7 +341,7 @@ PcgStatus preconditioned_cg(const Eigen::SparseMatrix<double>& a, const SparseCh
   double rz = r.dot(z);
   while (iterations < max_iterations) {
     ++iterations;
-    symmetric_product(a, p, q);
+    symmetric_product(a, p, q, threads);
     const double curvature = p.dot(q);
     if (!(curvature > 0.0)) return PcgStatus::negative_curvature;
     const double alpha = rz / curvature;
@@ -472,7 +475,8 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
         PcgStatus status = PcgStatus::too_many_iterations;
         {
           const StageTimer timer(report.seconds.solve);
-          status = preconditioned_cg(pattern.matrix, solver.factor, rhs, forcing, options.max_pcg_iterations, step, iterations);
+          status = preconditioned_cg(pattern.matrix, solver.factor, rhs, forcing, options.max_pcg_iterations,
+                                      resolve_threads(options.threads), step, iterations);
         }
         report.pcg_iterations += iterations;
         solver.pcg_since_factor += iterations;
