@@ -36,6 +36,7 @@
 #include "app/cli_common.h"
 #include "core/parallel.h"
 #include "app/cli_deform.h"
+#include "app/cli_render.h"
 #include "core/diagnostics.h"
 #include "core/printable.h"
 #include "core/graph_search.h"
@@ -44,7 +45,6 @@
 #include "dim2/generators.h"
 #include "dim2/mesh2.h"
 #include "dim2/svg.h"
-#include "render/render_command.h"
 
 namespace imm::cli {
 namespace {
@@ -270,6 +270,7 @@ std::vector<CommandSpec> make_command_specs() {
   specs.push_back(generate);
   specs.push_back(deform_command_spec());
   specs.push_back(weights_command_spec());
+  specs.push_back(render_command_spec());
   return specs;
 }
 
@@ -1218,10 +1219,6 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   const std::string& command = args[0];
   if (command == "--help" || command == "-h" || command == "help") {
     if (args.size() > 2) return usage_error(env, "", "'help' takes at most one command name");
-    if (args.size() == 2 && command == "help" && args[1] == "render") {
-      env.out << render::render_command_help();
-      return kExitOk;
-    }
     if (args.size() == 2 && command == "help") {
       const CommandSpec* spec = find_command(args[1]);
       if (spec == nullptr) return usage_error(env, "", "unknown command '" + args[1] + "'");
@@ -1232,8 +1229,6 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
     env.out << kMainHelp;
     return kExitOk;
   }
-  if (command == "render")  // its own options (render/render_command.h)
-    return render::run_render_command(std::vector<std::string>(args.begin() + 1, args.end()), env.out, env.err);
   const CommandSpec* spec = find_command(command);
   if (spec == nullptr) {
     if (!command.empty() && command[0] == '-') return usage_error(env, "", "unknown option '" + command + "'");
@@ -1249,6 +1244,7 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   if (command == "immersions") return command_immersions(s, cl);
   if (command == "mesh") return command_mesh(s, cl);
   if (command == "deform" || command == "weights") return command_deform_or_weights(s, cl, command);
+  if (command == "render") return command_render(s, cl);
   return command_generate(s, cl);
 }
 

@@ -541,75 +541,80 @@ TEST(RenderCommand, PicturesOfASurfaceATetMeshAndCurves) {
   REQUIRE_POVRAY();
   const fs::path dir = scratch("command");
   std::ostringstream out, err;
-  const auto run = [&](std::vector<std::string> args) {
+  const auto draw = [&](const fs::path& input, const std::string& png, auto&& adjust) {
     out.str("");
     err.str("");
-    return run_render_command(args, out, err);
+    RenderRequest request;
+    request.input = input.string();
+    request.output = (dir / png).string();
+    request.options.width = 160;
+    request.options.height = 120;
+    request.options.antialias = false;
+    request.options.soft_shadows = false;
+    adjust(request);
+    return render_picture(request, out, err);
   };
+  const auto as_is = [](RenderRequest&) {};
   // Surface: intersecting triangles red.
   const fs::path obj = dir / "two_spheres.obj";
   { std::ofstream(obj) << dim3::format_obj(dim3::two_spheres(6)); }
-  ASSERT_EQ(run({obj.string(), "-o", (dir / "s.png").string(), "--size", "160x120", "--fast"}), 0) << err.str();
+  ASSERT_EQ(draw(obj, "s.png", as_is), 0) << err.str();
   EXPECT_NE(out.str().find("intersecting (red)"), std::string::npos) << out.str();
   ImageReadResult img = read_png((dir / "s.png").string());
   ASSERT_TRUE(img.ok());
   EXPECT_EQ(img.image.width, 160);
   EXPECT_GT(count_hue(img.image, hue_of(colors::kIntersecting)), 20u);
-  ASSERT_EQ(run({obj.string(), "-o", (dir / "plain.png").string(), "--size", "160x120", "--fast",
-                 "--no-intersections"}),
-            0);
+  ASSERT_EQ(draw(obj, "plain.png", [](RenderRequest& r) { r.intersections = false; }), 0);
   img = read_png((dir / "plain.png").string());
   EXPECT_EQ(count_hue(img.image, hue_of(colors::kIntersecting)), 0u);
   // Tet mesh with references: the cut-away shows the inner node.
   const fs::path mesh = dir / "cube.mesh";
   { std::ofstream(mesh) << dim3::format_medit_3d(cube_mesh(5)); }
-  ASSERT_EQ(run({mesh.string(), "-o", (dir / "t.png").string(), "--size", "160x120", "--fast", "--no-edges",
-                 "--cut", "z=0.5", "--view", "20,15", "--no-ground"}),
+  const auto side_view = [](RenderRequest& r) {
+    r.edges = false;
+    r.ground = false;
+    r.view.azimuth = 20;
+    r.view.elevation = 15;
+    r.view_given = true;
+  };
+  ASSERT_EQ(draw(mesh, "t.png", [&](RenderRequest& r) {
+              side_view(r);
+              r.cut = CutRequest{2, 0.5, false};
+            }),
             0)
       << err.str();
   img = read_png((dir / "t.png").string());
   EXPECT_GT(count_hue(img.image, hue_of(palette(1))), 100u);
-  ASSERT_EQ(run({mesh.string(), "-o", (dir / "u.png").string(), "--size", "160x120", "--fast", "--no-edges",
-                 "--view", "20,15", "--no-ground"}),
-            0);
+  ASSERT_EQ(draw(mesh, "u.png", side_view), 0);
   img = read_png((dir / "u.png").string());
   EXPECT_EQ(count_hue(img.image, hue_of(palette(1))), 0u);
   // Curves (2D), through SVG.
   const fs::path curve = dir / "square.txt";
   { std::ofstream(curve) << "0 0\n1 0\n1 1\n0 1\n"; }
-  const int curve_code = run({curve.string(), "-o", (dir / "c.png").string(), "--size", "200x150"});
+  const int curve_code = draw(curve, "c.png", [](RenderRequest& r) {
+    r.options.width = 200;
+    r.options.height = 150;
+  });
   if (find_program("rsvg-convert")) {
     EXPECT_EQ(curve_code, 0) << err.str();
     EXPECT_TRUE(read_png((dir / "c.png").string()).ok());
   }
 }
 
-TEST(RenderCommand, BadCommandLinesAndInputsAreRefused) {
+TEST(RenderCommand, BadInputsAreRefusedAndWriteNothing) {
   const fs::path dir = scratch("command_errors");
   std::ostringstream out, err;
-  const auto run = [&](std::vector<std::string> args) { return run_render_command(args, out, err); };
   const std::string png = (dir / "x.png").string();
-  EXPECT_EQ(run({}), 64);
-  EXPECT_EQ(run({"a.obj"}), 64);                                  // no output
-  EXPECT_EQ(run({"a.obj", "-o", (dir / "x.jpg").string()}), 64);  // not a PNG
-  EXPECT_EQ(run({"a.obj", "-o", png, "--size", "10x10"}), 64);
-  EXPECT_EQ(run({"a.mesh", "-o", png, "--cut", "w=0.5"}), 64);
-  EXPECT_EQ(run({"a.mesh", "-o", png, "--cut", "x=2"}), 64);
-  EXPECT_EQ(run({"a.obj", "-o", png, "--view", "10"}), 64);
-  err.str("");
-  EXPECT_EQ(run({"a.obj", "-o", png, "--view", "inf,0"}), 64);
-  EXPECT_NE(err.str().find("AZ a finite number"), std::string::npos) << err.str();
-  err.str("");
-  EXPECT_EQ(run({"a.obj", "-o", png, "--view", "10,20", "--view", "30,20"}), 64);
-  EXPECT_NE(err.str().find("--view given twice"), std::string::npos) << err.str();
-  EXPECT_EQ(run({"a.obj", "-o", png, "--output", png}), 64);
-  EXPECT_EQ(run({"a.obj", "-o", png, "--bogus"}), 64);
-  EXPECT_EQ(run({"a.xyz", "-o", png}), 64);
-  EXPECT_EQ(run({(dir / "missing.obj").string(), "-o", png}), 2);
+  const auto draw = [&](const std::string& input, const std::string& output) {
+    RenderRequest request;
+    request.input = input;
+    request.output = output;
+    return render_picture(request, out, err);
+  };
+  EXPECT_EQ(draw("a.obj", (dir / "x.jpg").string()), 64);  // not a PNG
+  EXPECT_EQ(draw("a.xyz", png), 64);                      // nothing it can draw
+  EXPECT_EQ(draw((dir / "missing.obj").string(), png), 2);
   { std::ofstream(dir / "bad.mesh") << "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 0\nTetrahedra\n1\n1 2 3 4 0\nEnd\n"; }
-  EXPECT_EQ(run({(dir / "bad.mesh").string(), "-o", png}), 2);
+  EXPECT_EQ(draw((dir / "bad.mesh").string(), png), 2);
   EXPECT_FALSE(fs::exists(png));
-  out.str("");
-  EXPECT_EQ(run({"--help"}), 0);
-  EXPECT_NE(out.str().find("--cut"), std::string::npos);
 }
