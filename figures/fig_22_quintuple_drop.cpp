@@ -261,7 +261,7 @@ void run_real(const figures::FigureArgs& args, const std::string& obj, const std
   // The unglued mesh converges in 3-5 Newton iterations a step. The glued one, torn by the same
   // load, does not converge in 10 in most steps; with the default 50 it took 583 iterations
   // (9 of the 14 steps still not converged), 14.8 s CPU a step, and ended with the same 662 pairs
-  // and 5,047 inverted tets against 5,042 with 10 (BENCHMARKS.md, "Fig. 22").
+  // and 5,047 inverted tets against 5,042 with 10 (BENCHMARKS.md, "Reused factorization").
   fem.max_newton_iterations = 10;
   const int pull_steps = 10, steps = 14;  // 1/3 s eased, then 2/15 s held
   std::size_t shared_unglued = 0, shared_glued = 0;
