@@ -2,8 +2,8 @@
 // mesh beside the glued baseline): a deform::SimplexMesh<3> at some positions as a dim3::TetMesh
 // to draw, the input surface carried by an embedding, the connected parts of an input surface,
 // handle vertices picked through the embedding, the colour-bar check of a scalar picture, the
-// immerse-mesh-deformable preparation every figure starts with, and the held-and-dropped FEM run
-// of Figs. 3 and 22.
+// immerse-mesh-deformable preparation every figure starts with, and the dynamic FEM run with held or
+// driven handles of Figs. 3 and 22.
 #pragma once
 
 #include <numeric>
