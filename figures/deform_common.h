@@ -2,8 +2,8 @@
 // mesh beside the glued baseline): a deform::SimplexMesh<3> at some positions as a dim3::TetMesh
 // to draw, the input surface carried by an embedding, the connected parts of an input surface,
 // handle vertices picked through the embedding, the colour-bar check of a scalar picture, the
-// immerse-mesh-deformable preparation every figure starts with, and the held-and-dropped FEM run
-// of Figs. 3 and 22.
+// immerse-mesh-deformable preparation every figure starts with, and the dynamic FEM run with held or
+// driven handles of Figs. 3 and 22.
 #pragma once
 
 #include <numeric>
@@ -156,26 +156,27 @@ struct Dropped {
   std::vector<double> step_seconds;  ///< CPU seconds of each step (this thread), in step order
 };
 
-/// A dynamic FEM run on one mesh (Figs. 3 and 22): holds the carrying vertices of the `held`
-/// input vertices in place and simulates `steps` implicit Euler steps with `options` (gravity,
-/// ground, time step). `held_part` per input vertex: whether it belongs to a held part; pairs of
-/// intersecting triangles between a held and a free part are counted apart, and the free parts'
-/// mean displacement along the gravity. One FemSolver for the whole run: its factorization is
-/// reused across steps as the PCG preconditioner.
-inline Dropped drop(const deform::SimplexMesh<3>& mesh, const std::vector<deform::EmbeddedPoint>& embedding,
-                    const dim3::Surface& input, const std::vector<std::size_t>& held,
-                    const std::vector<bool>& held_part, const deform::FemOptions& options, int steps) {
+/// A dynamic FEM run on one mesh (Figs. 3 and 22): the mesh vertices `handles` follow
+/// `targets(step)` (|handles| x 3, in `handles` order; step = 1..steps), the others are simulated
+/// by `steps` implicit Euler steps with `options` (gravity, ground, time step). `held_part` per
+/// input vertex: whether it belongs to a held part; pairs of intersecting triangles between a
+/// held and a free part are counted apart, and the free parts' mean displacement along the
+/// gravity. One FemSolver for the whole run: its factorization is reused across steps as the PCG
+/// preconditioner.
+template <class Targets>
+Dropped simulate(const deform::SimplexMesh<3>& mesh, const std::vector<deform::EmbeddedPoint>& embedding,
+                 const dim3::Surface& input, const std::vector<Eigen::Index>& handles, const Targets& targets,
+                 const std::vector<bool>& held_part, const deform::FemOptions& options, int steps) {
   Dropped d;
-  const std::vector<Eigen::Index> handles = carrying_vertices(mesh, embedding, held);
   d.held = handles.size();
   const deform::FemData<3> data = deform::fem_precompute<3>(mesh, handles, options.material);
   if (!data.ok()) throw std::runtime_error("FEM precomputation: " + data.error);
   deform::FemState<3> state{mesh.vertices, Eigen::MatrixXd::Zero(mesh.vertex_count(), 3)};
-  const Eigen::MatrixXd targets = mesh.vertices(handles, Eigen::all);
   deform::FemSolver solver;
   for (int step = 1; step <= steps; ++step) {
+    const Eigen::MatrixXd target = targets(step);
     const double start = thread_cpu_seconds();
-    const deform::FemReport r = deform::fem_step<3>(data, state, targets, options, &solver);
+    const deform::FemReport r = deform::fem_step<3>(data, state, target, options, &solver);
     d.step_seconds.push_back(thread_cpu_seconds() - start);
     if (!r.error.empty()) throw std::runtime_error("FEM step: " + r.error);
     d.newton_iterations += r.newton_iterations;
@@ -203,6 +204,16 @@ inline Dropped drop(const deform::SimplexMesh<3>& mesh, const std::vector<deform
     }
   if (free_count > 0) d.free_drop /= static_cast<double>(free_count);
   return d;
+}
+
+/// `simulate` with the carrying vertices of the `held` input vertices held in place (the drop of
+/// Figs. 3 and 22: the held parts stay, the free ones fall).
+inline Dropped drop(const deform::SimplexMesh<3>& mesh, const std::vector<deform::EmbeddedPoint>& embedding,
+                    const dim3::Surface& input, const std::vector<std::size_t>& held,
+                    const std::vector<bool>& held_part, const deform::FemOptions& options, int steps) {
+  const std::vector<Eigen::Index> handles = carrying_vertices(mesh, embedding, held);
+  const Eigen::MatrixXd rest = mesh.vertices(handles, Eigen::all);
+  return simulate(mesh, embedding, input, handles, [&](int) { return rest; }, held_part, options, steps);
 }
 
 /// A picture of an input surface (as given or deformed) with its self-intersecting triangles
