@@ -160,7 +160,7 @@ class Refiner {
   }
 
   std::vector<std::array<std::uint32_t, 2>> candidate_pairs() const {
-    return overlapping_triangle_pairs(s_);  // sorted: deterministic ids below
+    return overlapping_triangle_pairs(s_, threads_);  // sorted: deterministic ids below
   }
 
   // ---- pair classification (exact predicates on the input doubles) ----------------------
