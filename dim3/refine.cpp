@@ -23,6 +23,7 @@
 #include <map>
 #include <sstream>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 
 #include "core/parallel.h"
@@ -215,13 +216,15 @@ class Refiner {
     for (auto& list : found)
       for (auto& [i, r] : list) apply(candidates[i][0], candidates[i][1], r);
     if (!defects_.empty()) return;
-    // The points were numbered in pair order above; their coordinates are independent.
-    std::vector<std::array<Rational, 3>> exact(pending_points_.size());
+    // The points were numbered in pair order above; their coordinates are independent (each an
+    // Epeck point of its own exact rationals, so building them on several threads shares nothing).
+    std::vector<std::optional<EK::Point_3>> exact(pending_points_.size());
     parallel_for(threads_, pending_points_.size(), [&](std::size_t k, unsigned) {
-      exact[k] = edge_triangle_coordinates(pending_points_[k][0], pending_points_[k][1]);
+      std::array<Rational, 3> x = edge_triangle_coordinates(pending_points_[k][0], pending_points_[k][1]);
+      exact[k].emplace(EK::FT(std::move(x[0])), EK::FT(std::move(x[1])), EK::FT(std::move(x[2])));
     });
     m_->points.reserve(m_->points.size() + exact.size());
-    for (auto& x : exact) m_->points.emplace_back(EK::FT(std::move(x[0])), EK::FT(std::move(x[1])), EK::FT(std::move(x[2])));
+    for (auto& p : exact) m_->points.push_back(std::move(*p));
     std::vector<std::array<std::uint32_t, 2>>().swap(pending_points_);
   }
 
