@@ -1,15 +1,18 @@
 // Exact self-intersection refinement of a closed triangle mesh (dim3/cut_mesh.h).
 //
-// 1. Candidate pairs: CGAL box_self_intersection_d on the triangles' (closed) bounding boxes.
+// 1. Candidate pairs: the triangles whose closed bounding boxes meet (dim3/triangle_pairs.h).
 // 2. Every pair is classified with orientation predicates on the input doubles (CGAL Epick
 //    predicates are exact on double input): no contact, a generic crossing (a segment whose two
 //    ends are each an input edge crossing the other triangle's interior), or a defect: coplanar
 //    overlap, a vertex on a triangle, an edge meeting an edge, an intersection curve through a
-//    shared vertex.
+//    shared vertex. The pairs are classified on all threads and applied in pair order.
 // 3. Per cut triangle, in a projection that keeps its orientation sign known: the crossings of its
 //    intersection segments are the triple points (each found by all three of its triangles); the
 //    triangle is then triangulated with its boundary points and the subdivided segments as
-//    constraints (CGAL constrained Delaunay triangulation over Epeck, no constraint crossings).
+//    constraints (CGAL constrained Delaunay triangulation over Epeck, no constraint crossings;
+//    the cut triangles on all threads). Three points on one input edge or one intersection
+//    segment are collinear by construction: the triangulation's orientation test says so
+//    without exact arithmetic (KnownLines).
 // The exact constructions (edge-plane and plane-plane-plane intersections) are Epeck lazy
 // numbers: interval arithmetic first, exact GMP rationals only when a predicate needs them.
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
