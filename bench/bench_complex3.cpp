@@ -10,6 +10,11 @@
 //                                 22), complex without exact volumes, and complex + search; with
 //                                 exact volumes as a separate family. Skipped when ../shared is
 //                                 absent.
+//  BM_Complex3_QuintupleTorusThreads/threads:T   the same complex (volumes in doubles) on T
+//                                 threads, wall time (the cut triangulations, the pair
+//                                 classification and the candidate grid run on the threads)
+//  BM_Complex3_CandidatePairs/threads:T   the candidate triangle pairs alone (the grid of
+//                                 dim3/triangle_pairs.h) on the same surface, T threads
 // Inputs are generated outside the timed loop; each iteration is one build_complex call
 // (validation included) and, where named, the search. Counters: triangles, intersecting pairs,
 // cells, patches, arcs, triple points.
@@ -20,6 +25,7 @@
 #include "core/graph_search.h"
 #include "dim3/complex3.h"
 #include "dim3/generators3.h"
+#include "dim3/triangle_pairs.h"
 
 namespace imm::bench {
 namespace {
@@ -34,9 +40,10 @@ void set_counters(benchmark::State& state, const dim3::Surface& s, const dim3::C
 }
 
 void run_complex(benchmark::State& state, const dim3::Surface& s, bool search, bool exact_volumes = false,
-                 benchmark::IterationCount complexity_n = 0) {
+                 benchmark::IterationCount complexity_n = 0, unsigned threads = 0) {
   dim3::BuildOptions options;
   options.exact_volumes = exact_volumes;
+  options.threads = threads;
   std::shared_ptr<dim3::Complex> last;
   for (auto _ : state) {
     dim3::BuildResult r = dim3::build_complex(s, options);
@@ -103,6 +110,28 @@ void BM_Complex3_QuintupleTorus(benchmark::State& state) {
                  (state.range(1) ? ", exact volumes" : ", volumes in doubles"));
 }
 BENCHMARK(BM_Complex3_QuintupleTorus)->Args({0, 0})->Args({1, 0})->Args({0, 1})->Unit(benchmark::kMillisecond);
+
+void BM_Complex3_QuintupleTorusThreads(benchmark::State& state) {
+  static const std::optional<dim3::Surface> s = quintuple_torus();
+  if (!s) {
+    state.SkipWithError("../shared/data/real/3d/quintupleTorus.obj absent");
+    return;
+  }
+  run_complex(state, *s, false, false, 0, static_cast<unsigned>(state.range(0)));
+}
+BENCHMARK(BM_Complex3_QuintupleTorusThreads)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+void BM_Complex3_CandidatePairs(benchmark::State& state) {
+  static const std::optional<dim3::Surface> s = quintuple_torus();
+  if (!s) {
+    state.SkipWithError("../shared/data/real/3d/quintupleTorus.obj absent");
+    return;
+  }
+  std::size_t pairs = 0;
+  for (auto _ : state) pairs = dim3::overlapping_triangle_pairs(*s, static_cast<unsigned>(state.range(0))).size();
+  state.counters["pairs"] = static_cast<double>(pairs);
+}
+BENCHMARK(BM_Complex3_CandidatePairs)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 /// Reading and validating the largest real surfaces (quintuple torus, armadillo): the parse
 /// and the exact validity checks before any complex is built.

@@ -2,7 +2,7 @@
 // CGAL-free facade: the exact cut geometry sits behind `CutMesh` (dim3/cut_mesh.h, CGAL inside).
 //
 // How it is built (dim3/refine.cpp, dim3/complex3.cpp):
-//  1. candidate triangle pairs from CGAL box_intersection_d; every pair is classified with exact
+//  1. candidate triangle pairs (dim3/triangle_pairs.h); every pair is classified with exact
 //     orientation predicates on the input doubles (CGAL Epick predicates are exact): a generic
 //     intersection is a segment whose two ends are each an input edge crossing the interior of
 //     the other triangle. Anything else that touches (a vertex on a triangle, two edges meeting,

@@ -1,20 +1,24 @@
 // Exact self-intersection refinement of a closed triangle mesh (dim3/cut_mesh.h).
 //
-// 1. Candidate pairs: CGAL box_self_intersection_d on the triangles' (closed) bounding boxes.
+// 1. Candidate pairs: the triangles whose closed bounding boxes meet (dim3/triangle_pairs.h).
 // 2. Every pair is classified with orientation predicates on the input doubles (CGAL Epick
 //    predicates are exact on double input): no contact, a generic crossing (a segment whose two
 //    ends are each an input edge crossing the other triangle's interior), or a defect: coplanar
 //    overlap, a vertex on a triangle, an edge meeting an edge, an intersection curve through a
-//    shared vertex.
+//    shared vertex. The pairs are classified on all threads and applied in pair order.
 // 3. Per cut triangle, in a projection that keeps its orientation sign known: the crossings of its
 //    intersection segments are the triple points (each found by all three of its triangles); the
 //    triangle is then triangulated with its boundary points and the subdivided segments as
-//    constraints (CGAL constrained Delaunay triangulation over Epeck, no constraint crossings).
+//    constraints (CGAL constrained Delaunay triangulation over Epeck, no constraint crossings;
+//    the cut triangles on all threads). Three points on one input edge or one intersection
+//    segment are collinear by construction: the triangulation's orientation test says so
+//    without exact arithmetic (KnownLines).
 // The exact constructions (edge-plane and plane-plane-plane intersections) are Epeck lazy
 // numbers: interval arithmetic first, exact GMP rationals only when a predicate needs them.
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Constrained_triangulation_face_base_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Mpzf.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
@@ -22,6 +26,7 @@
 #include <map>
 #include <sstream>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 
 #include "core/parallel.h"
@@ -114,7 +119,7 @@ class Refiner {
     log("intersect: " + std::to_string(candidates.size()) + " candidate triangle pairs");
     tri_segments_.assign(s_.triangle_count(), {});
     edge_points_.assign(m_->edges.size(), {});
-    for (const auto& [a, b] : candidates) classify(a, b);
+    classify_all(candidates);
     if (!defects_.empty()) return failed();
     m_->intersecting_pairs = segments_.size();
     m_->edge_triangle_points = m_->points.size() - s_.vertex_count();
@@ -159,7 +164,7 @@ class Refiner {
   }
 
   std::vector<std::array<std::uint32_t, 2>> candidate_pairs() const {
-    return overlapping_triangle_pairs(s_);  // sorted: deterministic ids below
+    return overlapping_triangle_pairs(s_, threads_);  // sorted: deterministic ids below
   }
 
   // ---- pair classification (exact predicates on the input doubles) ----------------------
@@ -174,13 +179,70 @@ class Refiner {
     return os.str();
   }
 
-  void defect(DefectKind kind, const std::string& message, std::vector<long> triangles, std::vector<long> vertices) {
+  Defect make_defect(DefectKind kind, const std::string& message, std::vector<long> triangles,
+                     std::vector<long> vertices) const {
     std::vector<std::vector<double>> pts;
     for (long v : vertices) pts.push_back(coords(s_.vertices[static_cast<std::size_t>(v)]));
-    defects_.add(Defect{kind, "intersect", message, std::move(triangles), std::move(vertices), std::move(pts)});
+    return Defect{kind, "intersect", message, std::move(triangles), std::move(vertices), std::move(pts)};
   }
 
-  void classify(std::uint32_t a, std::uint32_t b) {
+  void defect(DefectKind kind, const std::string& message, std::vector<long> triangles, std::vector<long> vertices) {
+    defects_.add(make_defect(kind, message, std::move(triangles), std::move(vertices)));
+  }
+
+  /// What one candidate pair contributes: found from exact predicates on the input doubles
+  /// alone (no shared state is written, so pairs are classified on all threads), then applied
+  /// in pair order on the calling thread (apply), so point ids and defects do not depend on the
+  /// thread count.
+  struct PairResult {
+    bool crossing = false;
+    std::array<std::array<std::uint32_t, 2>, 2> ends{};  // per end: (input edge, triangle it crosses)
+    std::array<std::uint8_t, 2> positive_corner{0, 0};
+    std::vector<Defect> defects;
+    [[nodiscard]] bool empty() const { return !crossing && defects.empty(); }
+    void defect(Defect d) { defects.push_back(std::move(d)); }
+  };
+
+  /// Classifies every candidate pair (in blocks, on all threads) and applies the results in
+  /// pair order; then computes the new intersection points' exact coordinates on all threads.
+  void classify_all(const std::vector<std::array<std::uint32_t, 2>>& candidates) {
+    constexpr std::size_t kBlock = 2048;
+    const std::size_t blocks = (candidates.size() + kBlock - 1) / kBlock;
+    std::vector<std::vector<std::pair<std::uint32_t, PairResult>>> found(blocks);  // non-empty results only
+    parallel_for(threads_, blocks, [&](std::size_t block, unsigned) {
+      for (std::size_t i = block * kBlock; i < std::min(candidates.size(), (block + 1) * kBlock); ++i) {
+        PairResult r;
+        classify(candidates[i][0], candidates[i][1], r);
+        if (!r.empty()) found[block].emplace_back(static_cast<std::uint32_t>(i), std::move(r));
+      }
+    }, 1);
+    for (auto& list : found)
+      for (auto& [i, r] : list) apply(candidates[i][0], candidates[i][1], r);
+    if (!defects_.empty()) return;
+    // The points were numbered in pair order above; their coordinates are independent (each an
+    // Epeck point of its own exact rationals, so building them on several threads shares nothing).
+    std::vector<std::optional<EK::Point_3>> exact(pending_points_.size());
+    parallel_for(threads_, pending_points_.size(), [&](std::size_t k, unsigned) {
+      std::array<Rational, 3> x = edge_triangle_coordinates(pending_points_[k][0], pending_points_[k][1]);
+      exact[k].emplace(EK::FT(std::move(x[0])), EK::FT(std::move(x[1])), EK::FT(std::move(x[2])));
+    });
+    m_->points.reserve(m_->points.size() + exact.size());
+    for (auto& p : exact) m_->points.push_back(std::move(*p));
+    std::vector<std::array<std::uint32_t, 2>>().swap(pending_points_);
+  }
+
+  void apply(std::uint32_t a, std::uint32_t b, PairResult& r) {
+    for (Defect& d : r.defects) defects_.add(std::move(d));
+    if (!r.crossing) return;
+    Segment seg{{a, b}, {edge_triangle_point(r.ends[0][0], r.ends[0][1]), edge_triangle_point(r.ends[1][0], r.ends[1][1])},
+                r.positive_corner};
+    const auto id = static_cast<std::uint32_t>(segments_.size());
+    segments_.push_back(seg);
+    tri_segments_[a].push_back(id);
+    tri_segments_[b].push_back(id);
+  }
+
+  void classify(std::uint32_t a, std::uint32_t b, PairResult& r) const {
     const Triangle& ta = s_.triangles[a];
     const Triangle& tb = s_.triangles[b];
     int shared = 0;
@@ -192,12 +254,13 @@ class Refiner {
           ++shared;
         }
     if (shared == 3) return;  // a duplicate face: validate_surface reports it
-    if (shared == 2) return classify_edge_neighbours(a, b, match_a);
-    if (shared == 1) return classify_vertex_neighbours(a, b, match_a);
-    classify_disjoint(a, b);
+    if (shared == 2) return classify_edge_neighbours(a, b, match_a, r);
+    if (shared == 1) return classify_vertex_neighbours(a, b, match_a, r);
+    classify_disjoint(a, b, r);
   }
 
-  void classify_edge_neighbours(std::uint32_t a, std::uint32_t b, const std::array<int, 3>& match_a) {
+  void classify_edge_neighbours(std::uint32_t a, std::uint32_t b, const std::array<int, 3>& match_a,
+                                PairResult& r) const {
     int oa = 0;
     while (match_a[oa] >= 0) ++oa;
     const Triangle& tb = s_.triangles[b];
@@ -207,19 +270,29 @@ class Refiner {
     const IPoint& u = ip(a, (oa + 1) % 3);
     const IPoint& v = ip(a, (oa + 2) % 3);
     if (CGAL::coplanar_orientation(u, v, ip(a, oa), ip(b, ob)) == CGAL::POSITIVE) {
-      defect(DefectKind::CoplanarOverlap,
+      r.defect(make_defect(DefectKind::CoplanarOverlap,
              describe_triangle(a) + " and " + describe_triangle(b) + " share an edge and fold onto each other "
                  "(coplanar overlap)",
-             {a, b}, {s_.triangles[a][oa], tb[ob]});
+             {a, b}, {s_.triangles[a][oa], tb[ob]}));
     }
   }
 
-  void classify_vertex_neighbours(std::uint32_t a, std::uint32_t b, const std::array<int, 3>& match_a) {
+  void classify_vertex_neighbours(std::uint32_t a, std::uint32_t b, const std::array<int, 3>& match_a,
+                                  PairResult& r) const {
     int ia = 0;
     while (match_a[ia] < 0) ++ia;
     const int ib = match_a[ia];
     const IPoint &a1 = ip(a, (ia + 1) % 3), &a2 = ip(a, (ia + 2) % 3);
     const IPoint &b1 = ip(b, (ib + 1) % 3), &b2 = ip(b, (ib + 2) % 3);
+    // The common case first, with two orientations: when b's far corners lie strictly on one
+    // side of a's plane, b meets that plane (so a) only at v, and the two do not meet beyond v
+    // (and vice versa).
+    for (int side = 0; side < 2; ++side) {
+      const std::uint32_t t = side == 0 ? a : b;
+      const IPoint &f1 = side == 0 ? b1 : a1, &f2 = side == 0 ? b2 : a2;
+      const CGAL::Orientation o1 = CGAL::orientation(ip(t, 0), ip(t, 1), ip(t, 2), f1);
+      if (o1 != CGAL::COPLANAR && o1 == CGAL::orientation(ip(t, 0), ip(t, 1), ip(t, 2), f2)) return;
+    }
     // Two triangles sharing only v meet beyond v iff the far edge of one meets the other.
     if (!CGAL::do_intersect(IK::Segment_3(a1, a2), itri(b)) && !CGAL::do_intersect(IK::Segment_3(b1, b2), itri(a))) {
       return;
@@ -233,28 +306,30 @@ class Refiner {
       const CGAL::Orientation op = CGAL::orientation(ip(u, 0), ip(u, 1), ip(u, 2), ip(t, k));
       const CGAL::Orientation oq = CGAL::orientation(ip(u, 0), ip(u, 1), ip(u, 2), ip(t, (k + 1) % 3));
       if (op == CGAL::COPLANAR || oq == CGAL::COPLANAR || op == oq || edge_crosses(t, k, u) != 1) continue;
-      local_fold(v, t, u, k);
+      r.defect(local_fold(v, t, u, k));
       return;
     }
     const bool coplanar = CGAL::orientation(ip(a, 0), ip(a, 1), ip(a, 2), b1) == CGAL::COPLANAR &&
                           CGAL::orientation(ip(a, 0), ip(a, 1), ip(a, 2), b2) == CGAL::COPLANAR;
     if (coplanar) {
-      defect(DefectKind::CoplanarOverlap,
-             describe_triangle(a) + " and " + describe_triangle(b) + " share vertex " + std::to_string(v) +
-                 " " + format_point(s_.vertices[v]) + " and overlap in their common plane",
-             {a, b}, {v});
+      r.defect(make_defect(DefectKind::CoplanarOverlap,
+                           describe_triangle(a) + " and " + describe_triangle(b) + " share vertex " +
+                               std::to_string(v) + " " + format_point(s_.vertices[v]) +
+                               " and overlap in their common plane",
+                           {a, b}, {v}));
     } else {
-      defect(DefectKind::TriplePoint,
-             describe_triangle(a) + " and " + describe_triangle(b) + " share vertex " + std::to_string(v) + " " +
-                 format_point(s_.vertices[v]) +
-                 " and intersect beyond it: an intersection curve passes through an input vertex (non-generic)",
-             {a, b}, {v});
+      r.defect(make_defect(DefectKind::TriplePoint,
+                           describe_triangle(a) + " and " + describe_triangle(b) + " share vertex " +
+                               std::to_string(v) + " " + format_point(s_.vertices[v]) +
+                               " and intersect beyond it: an intersection curve passes through an input vertex "
+                               "(non-generic)",
+                           {a, b}, {v}));
     }
   }
 
   /// Triangles t and u of vertex v's star cross beyond v: edge k of t (the far edge) crosses u's
   /// interior. Reported with the crossing point (rounded) as the place to look.
-  void local_fold(std::uint32_t v, std::uint32_t t, std::uint32_t u, int k) {
+  Defect local_fold(std::uint32_t v, std::uint32_t t, std::uint32_t u, int k) const {
     const Point3 &a = s_.vertices[s_.triangles[u][0]], &b = s_.vertices[s_.triangles[u][1]],
                  &c = s_.vertices[s_.triangles[u][2]];
     const Point3 &p = s_.vertices[s_.triangles[t][k]], &q = s_.vertices[s_.triangles[t][(k + 1) % 3]];
@@ -268,7 +343,7 @@ class Refiner {
     const Point3 x{p[0] + (q[0] - p[0]) * lambda, p[1] + (q[1] - p[1]) * lambda, p[2] + (q[2] - p[2]) * lambda};
     const std::uint32_t lo = std::min(t, u), hi = std::max(t, u);
     std::vector<std::vector<double>> pts{coords(s_.vertices[v]), coords(x)};
-    defects_.add(Defect{DefectKind::LocalFold, "intersect",
+    return Defect{DefectKind::LocalFold, "intersect",
                         "vertex " + std::to_string(v) + " " + format_point(s_.vertices[v]) + ": " +
                             describe_triangle(lo) + " and " + describe_triangle(hi) +
                             " of its star cross each other beyond it (from the vertex to about " + format_point(x) +
@@ -276,7 +351,7 @@ class Refiner {
                             "immersed solid there, and no small perturbation removes the crossing",
                         {lo, hi},
                         {v},
-                        std::move(pts)});
+                        std::move(pts)};
   }
 
   /// Edge k of triangle t crossing the interior of triangle u: 1 crossing, 0 missing, -1 touching
@@ -292,7 +367,7 @@ class Refiner {
     return pos && neg ? 0 : -1;
   }
 
-  void classify_disjoint(std::uint32_t a, std::uint32_t b) {
+  void classify_disjoint(std::uint32_t a, std::uint32_t b, PairResult& r) const {
     std::array<CGAL::Orientation, 3> oa, ob;  // corners of a w.r.t. b's plane, and vice versa
     for (int k = 0; k < 3; ++k) {
       oa[k] = CGAL::orientation(ip(b, 0), ip(b, 1), ip(b, 2), ip(a, k));
@@ -304,9 +379,9 @@ class Refiner {
     if (one_side(oa) || one_side(ob)) return;
     if (oa[0] == CGAL::COPLANAR && oa[1] == CGAL::COPLANAR && oa[2] == CGAL::COPLANAR) {
       if (CGAL::do_intersect(itri(a), itri(b))) {
-        defect(DefectKind::CoplanarOverlap,
-               describe_triangle(a) + " and " + describe_triangle(b) + " are coplanar and overlap or touch",
-               {a, b}, {s_.triangles[a][0], s_.triangles[b][0]});
+        r.defect(make_defect(DefectKind::CoplanarOverlap,
+                             describe_triangle(a) + " and " + describe_triangle(b) + " are coplanar and overlap or touch",
+                             {a, b}, {s_.triangles[a][0], s_.triangles[b][0]}));
       }
       return;
     }
@@ -319,23 +394,24 @@ class Refiner {
         if (o[k] != CGAL::COPLANAR) continue;
         const std::uint32_t v = s_.triangles[t][k];
         if (CGAL::do_intersect(itri(u), ip(t, k))) {
-          defect(DefectKind::Touching,
-                 "vertex " + std::to_string(v) + " " + format_point(s_.vertices[v]) + " of " + describe_triangle(t) +
-                     " lies on " + describe_triangle(u) + ": the surface touches itself there",
-                 {t, u}, {v});
+          r.defect(make_defect(DefectKind::Touching,
+                               "vertex " + std::to_string(v) + " " + format_point(s_.vertices[v]) + " of " +
+                                   describe_triangle(t) + " lies on " + describe_triangle(u) +
+                                   ": the surface touches itself there",
+                               {t, u}, {v}));
           return;
         }
         const int k1 = (k + 1) % 3;
         if (o[k1] == CGAL::COPLANAR && CGAL::do_intersect(IK::Segment_3(ip(t, k), ip(t, k1)), itri(u))) {
-          defect(DefectKind::Touching,
-                 "edge (" + std::to_string(v) + ", " + std::to_string(s_.triangles[t][k1]) + ") of " +
-                     describe_triangle(t) + " lies in the plane of " + describe_triangle(u) + " and meets it",
-                 {t, u}, {v, s_.triangles[t][k1]});
+          r.defect(make_defect(DefectKind::Touching,
+                               "edge (" + std::to_string(v) + ", " + std::to_string(s_.triangles[t][k1]) + ") of " +
+                                   describe_triangle(t) + " lies in the plane of " + describe_triangle(u) +
+                                   " and meets it",
+                               {t, u}, {v, s_.triangles[t][k1]}));
           return;
         }
       }
     }
-    std::array<std::uint32_t, 2> ends{kNone, kNone};
     int found = 0;
     for (int side = 0; side < 2; ++side) {
       const std::uint32_t t = side == 0 ? a : b, u = side == 0 ? b : a;
@@ -347,61 +423,68 @@ class Refiner {
         if (c == 0) continue;
         if (c < 0) {
           const std::uint32_t v0 = s_.triangles[t][k], v1 = s_.triangles[t][k1];
-          defect(DefectKind::Touching,
-                 "edge (" + std::to_string(v0) + ", " + std::to_string(v1) + ") of " + describe_triangle(t) +
-                     " passes through an edge or vertex of " + describe_triangle(u) +
-                     " instead of its interior (non-generic contact)",
-                 {t, u}, {v0, v1});
+          r.defect(make_defect(DefectKind::Touching,
+                               "edge (" + std::to_string(v0) + ", " + std::to_string(v1) + ") of " +
+                                   describe_triangle(t) + " passes through an edge or vertex of " +
+                                   describe_triangle(u) + " instead of its interior (non-generic contact)",
+                               {t, u}, {v0, v1}));
           return;
         }
-        if (found < 2) ends[found] = edge_triangle_point(m_->triangle_edges[t][k], u);
+        if (found < 2) r.ends[found] = {m_->triangle_edges[t][k], u};
         ++found;
       }
     }
     if (found == 0) return;
     IMM_ASSERT(found == 2, "a generic triangle-triangle crossing has exactly two ends, found " + std::to_string(found));
-    Segment seg{{a, b}, ends, {0, 0}};
+    r.crossing = true;
     for (int k = 0; k < 3; ++k) {
-      if (oa[k] == CGAL::POSITIVE) seg.positive_corner[0] = static_cast<std::uint8_t>(k);
-      if (ob[k] == CGAL::POSITIVE) seg.positive_corner[1] = static_cast<std::uint8_t>(k);
+      if (oa[k] == CGAL::POSITIVE) r.positive_corner[0] = static_cast<std::uint8_t>(k);
+      if (ob[k] == CGAL::POSITIVE) r.positive_corner[1] = static_cast<std::uint8_t>(k);
     }
-    const auto id = static_cast<std::uint32_t>(segments_.size());
-    segments_.push_back(seg);
-    tri_segments_[a].push_back(id);
-    tri_segments_[b].push_back(id);
   }
 
+  /// The id of the crossing of input edge `edge` with triangle `tri`, numbered at its first
+  /// use; its coordinates are computed later (classify_all, edge_triangle_coordinates).
   std::uint32_t edge_triangle_point(std::uint32_t edge, std::uint32_t tri) {
     auto [it, inserted] = edge_tri_index_.try_emplace((std::uint64_t{edge} << 32) | tri, 0);
     if (!inserted) return it->second;
-    const std::uint32_t id = static_cast<std::uint32_t>(m_->points.size());
+    const std::uint32_t id = static_cast<std::uint32_t>(m_->origins.size());
     it->second = id;
-    const InputEdge& e = m_->edges[edge];
-    const Triangle& t = s_.triangles[tri];
-    // Computed once in exact rationals from the input doubles (not as a lazy construction): the
-    // point is then exact from the start, and the many predicates that later meet it exactly
-    // (points on triangle edges are collinear with the corners) cost no deferred evaluation.
-    // With d(x) = det(b - a, c - a, x - a): the crossing is p + (q - p) d(p) / (d(p) - d(q)).
-    const auto exact = [&](std::uint32_t v) {
-      const Point3& x = s_.vertices[v];
-      return std::array<Rational, 3>{Rational(x[0]), Rational(x[1]), Rational(x[2])};
-    };
-    const auto a = exact(t[0]), b = exact(t[1]), c = exact(t[2]), p = exact(e.v0), q = exact(e.v1);
-    const auto det = [&](const std::array<Rational, 3>& x) {
-      const Rational u0 = b[0] - a[0], u1 = b[1] - a[1], u2 = b[2] - a[2];
-      const Rational v0 = c[0] - a[0], v1 = c[1] - a[1], v2 = c[2] - a[2];
-      const Rational w0 = x[0] - a[0], w1 = x[1] - a[1], w2 = x[2] - a[2];
-      return Rational(u0 * (v1 * w2 - v2 * w1) - u1 * (v0 * w2 - v2 * w0) + u2 * (v0 * w1 - v1 * w0));
-    };
-    const Rational dp = det(p), dq = det(q);
-    IMM_ASSERT(dp != dq, "edge-triangle crossing without an intersection point");
-    const Rational lambda = dp / (dp - dq);
-    m_->points.emplace_back(EK::FT(Rational(p[0] + (q[0] - p[0]) * lambda)),
-                            EK::FT(Rational(p[1] + (q[1] - p[1]) * lambda)),
-                            EK::FT(Rational(p[2] + (q[2] - p[2]) * lambda)));
     m_->origins.push_back({PointOrigin::Kind::EdgeTriangle, {edge, tri, 0}});
+    pending_points_.push_back({edge, tri});
     edge_points_[edge].push_back(id);
     return id;
+  }
+
+  /// The crossing of input edge `edge` with triangle `tri` in exact rationals from the input
+  /// doubles (not as a lazy construction): the point is then exact from the start, and the many
+  /// predicates that later meet it exactly (points on triangle edges are collinear with the
+  /// corners) cost no deferred evaluation.
+  /// With d(x) = det(b - a, c - a, x - a): the crossing is p + (q - p) d(p) / (d(p) - d(q))
+  /// = (q d(p) - p d(q)) / (d(p) - d(q)). Sums and products of doubles are exact in CGAL's dyadic
+  /// Mpzf (no gcd per operation, unlike GMP rationals), so only the three final quotients are
+  /// rationals: the same (canonical) rationals as evaluating the formula in rationals throughout.
+  std::array<Rational, 3> edge_triangle_coordinates(std::uint32_t edge, std::uint32_t tri) const {
+    using Z = CGAL::Mpzf;
+    const InputEdge& e = m_->edges[edge];
+    const Triangle& t = s_.triangles[tri];
+    const auto exact = [&](std::uint32_t v) {
+      const Point3& x = s_.vertices[v];
+      return std::array<Z, 3>{Z(x[0]), Z(x[1]), Z(x[2])};
+    };
+    const auto a = exact(t[0]), b = exact(t[1]), c = exact(t[2]), p = exact(e.v0), q = exact(e.v1);
+    const Z u0 = b[0] - a[0], u1 = b[1] - a[1], u2 = b[2] - a[2];
+    const Z v0 = c[0] - a[0], v1 = c[1] - a[1], v2 = c[2] - a[2];
+    const auto det = [&](const std::array<Z, 3>& x) {
+      const Z w0 = x[0] - a[0], w1 = x[1] - a[1], w2 = x[2] - a[2];
+      return Z(u0 * (v1 * w2 - v2 * w1) - u1 * (v0 * w2 - v2 * w0) + u2 * (v0 * w1 - v1 * w0));
+    };
+    const Z dp = det(p), dq = det(q);
+    IMM_ASSERT(dp != dq, "edge-triangle crossing without an intersection point");
+    const Rational denominator = static_cast<Rational>(Z(dp - dq));
+    std::array<Rational, 3> out;
+    for (int d = 0; d < 3; ++d) out[d] = static_cast<Rational>(Z(q[d] * dp - p[d] * dq)) / denominator;
+    return out;
   }
 
   void sort_edge_points() {
@@ -597,10 +680,91 @@ class Refiner {
 
   // ---- triangulation -----------------------------------------------------------------------
 
-  using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::uint32_t, EK>;
-  using Fb = CGAL::Constrained_triangulation_face_base_2<EK>;
+  /// The lines of one cut triangle's arrangement that are known exactly: its input edges (a
+  /// corner lies on two, a crossing point on the edge it crosses) and its intersection segments
+  /// (their ends and the triple points on them; a triple point lies on two). Three points on one
+  /// such line are collinear by construction, a fact the triangulation's orientation predicate
+  /// would otherwise establish in exact rationals (the interval filter cannot decide an exact
+  /// zero): points on the triangle's edges make most of its exact evaluations.
+  class KnownLines {
+   public:
+    static std::uint64_t edge_line(std::uint32_t edge) { return edge; }
+    static std::uint64_t segment_line(std::uint32_t segment) { return (std::uint64_t{1} << 32) | segment; }
+
+    /// Records that point `id` lies on `line`.
+    void add(std::uint32_t id, std::uint64_t line) {
+      Entry& e = entry(id);
+      if (std::find(e.lines.begin(), e.lines.begin() + e.count, line) != e.lines.begin() + e.count) return;
+      IMM_ASSERT(e.count < e.lines.size(), "a cut point on more than four known lines");
+      e.lines[e.count++] = line;
+    }
+    /// The projected point of `id`, as the triangulation holds it (the same lazy handle).
+    void set_point(std::uint32_t id, const EK::Point_2& p) { entry(id).point = p; }
+
+    /// True when p, q and r (handles given to set_point) lie on one known line.
+    [[nodiscard]] bool collinear(const EK::Point_2& p, const EK::Point_2& q, const EK::Point_2& r) const {
+      const Entry *ep = find(p), *eq = find(q), *er = find(r);
+      if (ep == nullptr || eq == nullptr || er == nullptr) return false;
+      const auto on = [](const Entry& e, std::uint64_t line) {
+        return std::find(e.lines.begin(), e.lines.begin() + e.count, line) != e.lines.begin() + e.count;
+      };
+      for (std::uint8_t i = 0; i < ep->count; ++i)
+        if (on(*eq, ep->lines[i]) && on(*er, ep->lines[i])) return true;
+      return false;
+    }
+
+   private:
+    struct Entry {
+      std::uint32_t id = 0;
+      EK::Point_2 point;
+      std::array<std::uint64_t, 4> lines{};
+      std::uint8_t count = 0;
+    };
+    Entry& entry(std::uint32_t id) {
+      for (Entry& e : entries_)
+        if (e.id == id) return e;
+      entries_.push_back({});
+      entries_.back().id = id;
+      return entries_.back();
+    }
+    const Entry* find(const EK::Point_2& p) const {
+      for (const Entry& e : entries_)
+        if (static_cast<const CGAL::Handle&>(e.point).identical(p)) return &e;  // the same lazy point
+      return nullptr;
+    }
+    std::vector<Entry> entries_;  // a cut triangle has a few dozen points at most: a linear scan
+  };
+
+  /// Epeck with an orientation predicate that answers COLLINEAR for three points on a known line
+  /// (KnownLines) when the interval filter cannot decide, before evaluating exactly. The answer
+  /// is the exact one either way, so the triangulation is the same, only cheaper.
+  struct CdtTraits : EK {
+    const KnownLines* known = nullptr;
+    class Orientation_2 {
+     public:
+      explicit Orientation_2(const KnownLines* known) : known_(known) {}
+      CGAL::Orientation operator()(const EK::Point_2& p, const EK::Point_2& q, const EK::Point_2& r) const {
+        {
+          const CGAL::Protect_FPU_rounding<true> rounding;
+          const auto &ap = p.approx(), &aq = q.approx(), &ar = r.approx();
+          const CGAL::Uncertain<CGAL::Orientation> o =
+              CGAL::orientationC2(ap.x(), ap.y(), aq.x(), aq.y(), ar.x(), ar.y());
+          if (CGAL::is_certain(o)) return CGAL::get_certain(o);
+        }
+        if (known_ != nullptr && known_->collinear(p, q, r)) return CGAL::COLLINEAR;
+        return EK().orientation_2_object()(p, q, r);
+      }
+
+     private:
+      const KnownLines* known_;
+    };
+    [[nodiscard]] Orientation_2 orientation_2_object() const { return Orientation_2(known); }
+  };
+
+  using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::uint32_t, CdtTraits>;
+  using Fb = CGAL::Constrained_triangulation_face_base_2<CdtTraits>;
   using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-  using CDT = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::No_constraint_intersection_tag>;
+  using CDT = CGAL::Constrained_Delaunay_triangulation_2<CdtTraits, Tds, CGAL::No_constraint_intersection_tag>;
 
   void add_boundary_edge(std::uint32_t p, std::uint32_t q, std::uint32_t sub) {
     auto [it, inserted] = boundary_.try_emplace(pair_key(p, q), sub);
@@ -762,14 +926,19 @@ class Refiner {
     LocalCut out;
     const Projection pr = projection_of(t);
     const Triangle& tri = s_.triangles[t];
-    CDT cdt;
+    KnownLines known;
+    CdtTraits traits;
+    traits.known = &known;
+    CDT cdt(traits);
     std::unordered_map<std::uint32_t, CDT::Vertex_handle> handle;
     CDT::Face_handle hint;
     bool coincident = false;
     auto insert = [&](std::uint32_t id) {
       if (handle.count(id)) return;
       const std::size_t before = cdt.number_of_vertices();
-      CDT::Vertex_handle v = cdt.insert(project(m_->points[id], pr.drop), hint);
+      const EK::Point_2 point = project(m_->points[id], pr.drop);
+      known.set_point(id, point);
+      CDT::Vertex_handle v = cdt.insert(point, hint);
       if (cdt.number_of_vertices() == before) coincident = true;
       v->info() = id;
       handle.emplace(id, v);
@@ -786,6 +955,16 @@ class Refiner {
     }
     if (tri_segments_[t].size() == 1 && ring.size() == 5) {
       if (auto fast = single_chord(t, ring, pr)) return std::move(*fast);
+    }
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t e = m_->triangle_edges[t][k];
+      known.add(tri[k], KnownLines::edge_line(e));
+      known.add(tri[(k + 1) % 3], KnownLines::edge_line(e));
+      for (std::uint32_t id : edge_points_[e]) known.add(id, KnownLines::edge_line(e));
+    }
+    for (std::uint32_t s : tri_segments_[t]) {
+      for (std::uint32_t id : seg_points_[s * 2 + (segments_[s].triangles[0] == t ? 0 : 1)])
+        known.add(id, KnownLines::segment_line(s));
     }
     for (std::uint32_t id : ring) insert(id);
     for (std::uint32_t s : tri_segments_[t]) {
@@ -887,6 +1066,7 @@ class Refiner {
   std::vector<std::vector<std::uint32_t>> tri_segments_;
   std::vector<std::vector<std::uint32_t>> edge_points_;  // sorted from v0 to v1
   std::unordered_map<std::uint64_t, std::uint32_t> edge_tri_index_;
+  std::vector<std::array<std::uint32_t, 2>> pending_points_;  // (edge, triangle) of points without coordinates
   std::unordered_map<TripleKey, std::uint32_t, TripleHash> triples_;
   std::unordered_map<TripleKey, int, TripleHash> triple_seen_;
   std::vector<std::vector<std::uint32_t>> seg_points_;  // per (segment, sheet): ordered points
