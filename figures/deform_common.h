@@ -153,7 +153,7 @@ struct Dropped {
   int newton_iterations = 0;
   int unconverged = 0;
   std::size_t held = 0;  ///< mesh vertices held
-  std::vector<double> step_seconds;  ///< CPU seconds of each step (this thread), in step order
+  std::vector<double> step_seconds;  ///< CPU seconds of each step (the process: all threads), in step order
 };
 
 /// A dynamic FEM run on one mesh (Figs. 3 and 22): the mesh vertices `handles` follow
@@ -175,9 +175,9 @@ Dropped simulate(const deform::SimplexMesh<3>& mesh, const std::vector<deform::E
   deform::FemSolver solver;
   for (int step = 1; step <= steps; ++step) {
     const Eigen::MatrixXd target = targets(step);
-    const double start = thread_cpu_seconds();
+    const double start = process_cpu_seconds();
     const deform::FemReport r = deform::fem_step<3>(data, state, target, options, &solver);
-    d.step_seconds.push_back(thread_cpu_seconds() - start);
+    d.step_seconds.push_back(process_cpu_seconds() - start);
     if (!r.error.empty()) throw std::runtime_error("FEM step: " + r.error);
     d.newton_iterations += r.newton_iterations;
     d.unconverged += r.converged ? 0 : 1;
