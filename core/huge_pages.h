@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 
 namespace imm {
 
@@ -30,6 +31,16 @@ inline void advise_huge_pages(const void* data, std::size_t bytes) {
 template <class Vector>
 void advise_huge_pages(const Vector& v) {
   advise_huge_pages(v.data(), v.capacity() * sizeof(typename Vector::value_type));
+}
+
+/// An array of n default-initialised (untouched) values, advised: for scratch arrays written
+/// whole on all threads before they are read, where value-initialising them would be a serial
+/// pass of page faults.
+template <class T>
+std::unique_ptr<T[]> uninitialized_array(std::size_t n) {
+  std::unique_ptr<T[]> a(new T[n]);
+  advise_huge_pages(a.get(), n * sizeof(T));
+  return a;
 }
 
 }  // namespace imm

@@ -128,12 +128,14 @@ class AtomExpansion {
   [[nodiscard]] const UnglueInput<D>& input() const { return input_; }
 
   /// Every fusion of `fusions` (fuse(f.inner, f.outer, f.patch)), then every adjacency of
-  /// `adjacencies` (connect_across(a.first, a.second, a.patch, a.face) when a.patch is valid,
-  /// else connect(a.first, a.second, a.face)), in order: the lists these calls would make one by
-  /// one, built on `threads` threads (each item counted, then written at its offset).
-  /// Fusion and Adjacency: LocalRegions<D>::Fusion and ::Adjacency (core/local_regions.h).
-  template <class Fusion, class Adjacency>
-  void glue(const std::vector<Fusion>& fusions, const std::vector<Adjacency>& adjacencies, unsigned threads);
+  /// `adjacencies` (connect_across(a.first, a.second, a.patch, face_of(a)) when a.patch is valid,
+  /// else connect(a.first, a.second, face_of(a))), in order: the lists these calls would make one
+  /// by one, built on `threads` threads (each item counted, then written at its offset).
+  /// Fusion and Adjacency: LocalRegions<D>::Fusion and ::Adjacency (core/local_regions.h), whose
+  /// face `face_of` derives (LocalRegions<D>::face).
+  template <class Fusion, class Adjacency, class FaceOf>
+  void glue(const std::vector<Fusion>& fusions, const std::vector<Adjacency>& adjacencies, const FaceOf& face_of,
+            unsigned threads);
 
  private:
   /// How many adjacencies connect() adds for local region lr: one per node of its cell.
@@ -151,9 +153,9 @@ class AtomExpansion {
 };
 
 template <int D>
-template <class Fusion, class Adjacency>
+template <class Fusion, class Adjacency, class FaceOf>
 void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vector<Adjacency>& adjacencies,
-                            unsigned threads) {
+                            const FaceOf& face_of, unsigned threads) {
   std::vector<std::pair<std::uint32_t, std::uint32_t>>& fused = input_.fusions;
   const std::size_t fused_before = fused.size();
   parallel_ordered_append(
@@ -176,7 +178,8 @@ void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vecto
       [&](std::size_t i, std::size_t at) {
         const Adjacency& a = adjacencies[i];
         std::array<std::int32_t, D> face{};
-        std::copy(a.face.begin(), a.face.end(), face.begin());
+        const auto shared = face_of(a);
+        std::copy(shared.begin(), shared.end(), face.begin());
         if (a.patch.is_valid()) {
           for (const ImmersionEdge& e : edges_across_[a.patch])
             connected[connected_before + at++] = {atom(a.first, e.inner), atom(a.second, e.outer), face};
