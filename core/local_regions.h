@@ -224,9 +224,7 @@ struct LocalRegions {
   /// Glues the atoms of one immersion (core/unglue.h) along these fusions and adjacencies: across
   /// a fusion or an adjacency on a patch through the graph's edges across the patch, across an
   /// input-free adjacency copy by copy; on `threads` threads (the same lists for every count).
-  void glue(AtomExpansion<D>& atoms, unsigned threads = 1) const {
-    atoms.glue(fusions, adjacencies, [&](const Adjacency& a) { return face(a, atoms.input().elements); }, threads);
-  }
+  void glue(AtomExpansion<D>& atoms, unsigned threads = 1) const { atoms.glue(fusions, adjacencies, threads); }
 };
 
 }  // namespace imm

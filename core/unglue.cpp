@@ -131,14 +131,18 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
       IMM_ASSERT(element_a != element_b, "adjacency inside one element");
       const std::uint32_t copy_a = out.atom_copy[adjacency.first];
       const std::uint32_t copy_b = out.atom_copy[adjacency.second];
-      for (std::int32_t v : adjacency.face) {
-        const int ia = local_index(input.elements[element_a], v);
-        const int ib = local_index(input.elements[element_b], v);
-        IMM_ASSERT(ia >= 0 && ib >= 0,
-                   "adjacency face vertex " + std::to_string(v) + " is not a vertex of both elements");
-        vertices.unite(copy_a * kArity + static_cast<std::uint32_t>(ia),
-                       copy_b * kArity + static_cast<std::uint32_t>(ib));
+      // The shared face: the vertices of element a that element b has too (exactly D of them).
+      std::array<std::pair<int, int>, kArity> shared{};
+      int n = 0;
+      for (int ia = 0; ia < kArity; ++ia) {
+        const int ib = local_index(input.elements[element_b], input.elements[element_a][static_cast<std::size_t>(ia)]);
+        if (ib >= 0) shared[static_cast<std::size_t>(n++)] = {ia, ib};
       }
+      IMM_ASSERT(n == D, "adjacency between elements " + std::to_string(element_a) + " and " +
+                             std::to_string(element_b) + " sharing " + std::to_string(n) + " vertices, not a face");
+      for (int k = 0; k < D; ++k)
+        vertices.unite(copy_a * kArity + static_cast<std::uint32_t>(shared[static_cast<std::size_t>(k)].first),
+                       copy_b * kArity + static_cast<std::uint32_t>(shared[static_cast<std::size_t>(k)].second));
     }
   });
 
@@ -233,19 +237,17 @@ void AtomExpansion<D>::fuse(std::uint32_t inner, std::uint32_t outer, PatchId pa
 }
 
 template <int D>
-void AtomExpansion<D>::connect(std::uint32_t first, std::uint32_t second, const std::array<std::int32_t, D>& face) {
+void AtomExpansion<D>::connect(std::uint32_t first, std::uint32_t second) {
   const CellId cell = complex_.cell_of(region_[first]);
   if (!cell.is_valid()) return;
   for (int k = 0; k < complex_.winding_number(cell); ++k)
     input_.adjacencies.push_back({atom_first_[first] + static_cast<std::uint32_t>(k),
-                                  atom_first_[second] + static_cast<std::uint32_t>(k), face});
+                                  atom_first_[second] + static_cast<std::uint32_t>(k)});
 }
 
 template <int D>
-void AtomExpansion<D>::connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch,
-                                      const std::array<std::int32_t, D>& face) {
-  for (const ImmersionEdge& e : edges_across_[patch])
-    input_.adjacencies.push_back({atom(inner, e.inner), atom(outer, e.outer), face});
+void AtomExpansion<D>::connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch) {
+  for (const ImmersionEdge& e : edges_across_[patch]) input_.adjacencies.push_back({atom(inner, e.inner), atom(outer, e.outer)});
 }
 
 template class AtomExpansion<2>;

@@ -44,12 +44,13 @@ struct UnglueAtom {
   std::int32_t local_region = 0; ///< the caller's id of the local region within the element
 };
 
-/// Two atoms of two elements that share a face and are connected across it.
+/// Two atoms of two elements that share a face and are connected across it. The face is not
+/// stored: it is the D vertices the two elements share (8 bytes an adjacency instead of
+/// 8 + 4 D, on one of the largest arrays of meshing at scale; BENCHMARKS.md, issue 17).
 template <int D>
 struct UnglueAdjacency {
   std::uint32_t first = 0;   ///< atom index
-  std::uint32_t second = 0;  ///< atom index, in another element
-  std::array<std::int32_t, D> face{};  ///< background vertex ids of the shared face (any order)
+  std::uint32_t second = 0;  ///< atom index, in another element sharing a face (D vertices) with its
 };
 
 /// The input of unglue(): the background mesh and what the element cutting found.
@@ -82,8 +83,8 @@ struct UnglueResult {
 };
 
 /// Duplicates elements per union-find class of atoms and connects the copies.
-/// @pre every fusion joins two atoms of one element; every adjacency joins atoms of two different
-///      elements and its face vertices belong to both (checked: InvariantError otherwise).
+/// @pre every fusion joins two atoms of one element; every adjacency joins atoms of two elements
+///      sharing exactly D vertices, its face (checked: InvariantError otherwise).
 /// @return copies over compacted vertex ids; elements without atoms have no copy. The same for
 ///         every `threads` (the unions run concurrently, the numbering is by smallest member).
 /// Paper: §7, §7.1.2; Teran et al. 2005, §6.
@@ -114,12 +115,13 @@ class AtomExpansion {
   /// Local regions `inner` and `outer` of one element lie on the two sides of a piece of `patch`
   /// inside it: every graph edge across the patch glues their atoms (one element copy).
   void fuse(std::uint32_t inner, std::uint32_t outer, PatchId patch);
-  /// Local regions of two elements meet across `face`, free of the input (one region): the
-  /// copies of each node are connected.
-  void connect(std::uint32_t first, std::uint32_t second, const std::array<std::int32_t, D>& face);
-  /// Local regions of two elements meet across `face` along a piece of `patch` (the input runs in
-  /// the face; `inner` on the patch's inner side): connected through the graph edges across it.
-  void connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch, const std::array<std::int32_t, D>& face);
+  /// Local regions of two elements meet across their shared face, free of the input (one
+  /// region): the copies of each node are connected.
+  void connect(std::uint32_t first, std::uint32_t second);
+  /// Local regions of two elements meet across their shared face along a piece of `patch` (the
+  /// input runs in the face; `inner` on the patch's inner side): connected through the graph
+  /// edges across it.
+  void connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch);
 
   /// The atom of local region lr for graph node `node` (a node of the region's cell).
   [[nodiscard]] std::uint32_t atom(std::uint32_t lr, NodeId node) const;
@@ -128,14 +130,12 @@ class AtomExpansion {
   [[nodiscard]] const UnglueInput<D>& input() const { return input_; }
 
   /// Every fusion of `fusions` (fuse(f.inner, f.outer, f.patch)), then every adjacency of
-  /// `adjacencies` (connect_across(a.first, a.second, a.patch, face_of(a)) when a.patch is valid,
-  /// else connect(a.first, a.second, face_of(a))), in order: the lists these calls would make one
-  /// by one, built on `threads` threads (each item counted, then written at its offset).
-  /// Fusion and Adjacency: LocalRegions<D>::Fusion and ::Adjacency (core/local_regions.h), whose
-  /// face `face_of` derives (LocalRegions<D>::face).
-  template <class Fusion, class Adjacency, class FaceOf>
-  void glue(const std::vector<Fusion>& fusions, const std::vector<Adjacency>& adjacencies, const FaceOf& face_of,
-            unsigned threads);
+  /// `adjacencies` (connect_across(a.first, a.second, a.patch) when a.patch is valid, else
+  /// connect(a.first, a.second)), in order: the lists these calls would make one by one, built on
+  /// `threads` threads (each item counted, then written at its offset).
+  /// Fusion and Adjacency: LocalRegions<D>::Fusion and ::Adjacency (core/local_regions.h).
+  template <class Fusion, class Adjacency>
+  void glue(const std::vector<Fusion>& fusions, const std::vector<Adjacency>& adjacencies, unsigned threads);
 
  private:
   /// How many adjacencies connect() adds for local region lr: one per node of its cell.
@@ -153,9 +153,9 @@ class AtomExpansion {
 };
 
 template <int D>
-template <class Fusion, class Adjacency, class FaceOf>
+template <class Fusion, class Adjacency>
 void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vector<Adjacency>& adjacencies,
-                            const FaceOf& face_of, unsigned threads) {
+                            unsigned threads) {
   std::vector<std::pair<std::uint32_t, std::uint32_t>>& fused = input_.fusions;
   const std::size_t fused_before = fused.size();
   parallel_ordered_append(
@@ -177,17 +177,14 @@ void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vecto
       [&](std::size_t total) { connected.resize(connected_before + total); },
       [&](std::size_t i, std::size_t at) {
         const Adjacency& a = adjacencies[i];
-        std::array<std::int32_t, D> face{};
-        const auto shared = face_of(a);
-        std::copy(shared.begin(), shared.end(), face.begin());
         if (a.patch.is_valid()) {
           for (const ImmersionEdge& e : edges_across_[a.patch])
-            connected[connected_before + at++] = {atom(a.first, e.inner), atom(a.second, e.outer), face};
+            connected[connected_before + at++] = {atom(a.first, e.inner), atom(a.second, e.outer)};
         } else {
           const std::size_t n = connect_count(a.first);
           for (std::size_t k = 0; k < n; ++k)
             connected[connected_before + at++] = {atom_first_[a.first] + static_cast<std::uint32_t>(k),
-                                                  atom_first_[a.second] + static_cast<std::uint32_t>(k), face};
+                                                  atom_first_[a.second] + static_cast<std::uint32_t>(k)};
         }
       });
 }
