@@ -33,6 +33,15 @@ void advise_huge_pages(const Vector& v) {
   advise_huge_pages(v.data(), v.capacity() * sizeof(typename Vector::value_type));
 }
 
+/// v.resize(n) after advising huge pages for its storage: the value-initialisation of a large
+/// array is a serial pass of page faults otherwise.
+template <class Vector>
+void resize_advised(Vector& v, std::size_t n) {
+  v.reserve(n);
+  advise_huge_pages(v);
+  v.resize(n);
+}
+
 /// An array of n default-initialised (untouched) values, advised: for scratch arrays written
 /// whole on all threads before they are read, where value-initialising them would be a serial
 /// pass of page faults.

@@ -26,15 +26,6 @@ int local_index(const std::array<std::int32_t, N>& element, std::int32_t v) {
   return -1;
 }
 
-/// v.resize(n) after advising huge pages for its storage: the value-initialisation of a large
-/// array is a serial pass of page faults otherwise (core/huge_pages.h).
-template <class Vector>
-void resize_advised(Vector& v, std::size_t n) {
-  v.reserve(n);
-  advise_huge_pages(v);
-  v.resize(n);
-}
-
 }  // namespace
 
 template <int D>

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/cell_complex.h"
+#include "core/huge_pages.h"
 #include "core/ids.h"
 #include "core/immersion_graph.h"
 #include "core/parallel.h"
@@ -160,7 +161,7 @@ void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vecto
   const std::size_t fused_before = fused.size();
   parallel_ordered_append(
       threads, fusions.size(), [&](std::size_t i) { return edges_across_[fusions[i].patch].size(); },
-      [&](std::size_t total) { fused.resize(fused_before + total); },
+      [&](std::size_t total) { resize_advised(fused, fused_before + total); },
       [&](std::size_t i, std::size_t at) {
         const Fusion& f = fusions[i];
         for (const ImmersionEdge& e : edges_across_[f.patch])
@@ -174,7 +175,7 @@ void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vecto
         const Adjacency& a = adjacencies[i];
         return a.patch.is_valid() ? edges_across_[a.patch].size() : connect_count(a.first);
       },
-      [&](std::size_t total) { connected.resize(connected_before + total); },
+      [&](std::size_t total) { resize_advised(connected, connected_before + total); },
       [&](std::size_t i, std::size_t at) {
         const Adjacency& a = adjacencies[i];
         if (a.patch.is_valid()) {
