@@ -48,10 +48,12 @@ struct UnglueAtom {
 /// Two atoms of two elements that share a face and are connected across it. The face is not
 /// stored: it is the D vertices the two elements share (8 bytes an adjacency instead of
 /// 8 + 4 D, on one of the largest arrays of meshing at scale; BENCHMARKS.md, issue 17).
+/// Trivially default-constructible (no member initialisers): the driver's list of them grows
+/// without a serial zeroing pass (DefaultInitAllocator), every entry written on all threads.
 template <int D>
 struct UnglueAdjacency {
-  std::uint32_t first = 0;   ///< atom index
-  std::uint32_t second = 0;  ///< atom index, in another element sharing a face (D vertices) with its
+  std::uint32_t first;   ///< atom index
+  std::uint32_t second;  ///< atom index, in another element sharing a face (D vertices) with its
 };
 
 /// The input of unglue(): the background mesh and what the element cutting found.
@@ -62,7 +64,7 @@ struct UnglueInput {
   std::vector<UnglueAtom> atoms;
   /// Pairs of atom indices in the same element that belong to the same element copy.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> fusions;
-  std::vector<UnglueAdjacency<D>> adjacencies;
+  std::vector<UnglueAdjacency<D>, DefaultInitAllocator<UnglueAdjacency<D>>> adjacencies;
 };
 
 /// The unglued mesh: element copies over merged vertex copies.
@@ -167,7 +169,7 @@ void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vecto
         for (const ImmersionEdge& e : edges_across_[f.patch])
           fused[fused_before + at++] = {atom(f.inner, e.inner), atom(f.outer, e.outer)};
       });
-  std::vector<UnglueAdjacency<D>>& connected = input_.adjacencies;
+  auto& connected = input_.adjacencies;
   const std::size_t connected_before = connected.size();
   parallel_ordered_append(
       threads, adjacencies.size(),
