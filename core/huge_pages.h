@@ -13,6 +13,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 
 namespace imm {
 
@@ -30,6 +34,49 @@ inline void advise_huge_pages(const void* data, std::size_t bytes) {
 template <class Vector>
 void advise_huge_pages(const Vector& v) {
   advise_huge_pages(v.data(), v.capacity() * sizeof(typename Vector::value_type));
+}
+
+/// v.resize(n) after advising huge pages for its storage: the value-initialisation of a large
+/// array is a serial pass of page faults otherwise.
+template <class Vector>
+void resize_advised(Vector& v, std::size_t n) {
+  v.reserve(n);
+  advise_huge_pages(v);
+  v.resize(n);
+}
+
+/// A std::allocator whose construct() without arguments default-initialises: a vector of
+/// trivially default-constructible elements then grows by resize() without touching the new
+/// storage, which the caller writes (on all threads) before reading it. For large arrays whose
+/// value-initialisation would be a serial pass of page faults on the calling thread.
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() noexcept = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>& /*other*/) noexcept {}  // NOLINT: converting, as std::allocator's
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+  friend bool operator==(const DefaultInitAllocator&, const DefaultInitAllocator&) noexcept { return true; }
+};
+
+/// An array of n default-initialised (untouched) values, advised: for scratch arrays written
+/// whole on all threads before they are read, where value-initialising them would be a serial
+/// pass of page faults.
+template <class T>
+std::unique_ptr<T[]> uninitialized_array(std::size_t n) {
+  std::unique_ptr<T[]> a(new T[n]);
+  advise_huge_pages(a.get(), n * sizeof(T));
+  return a;
 }
 
 }  // namespace imm

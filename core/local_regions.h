@@ -8,8 +8,8 @@
 // regions are numbered element by element: those of element e are first[e] .. first[e+1]-1.
 //  - a fusion joins two local regions of one element on the two sides of a piece of a patch
 //    inside it (the two are one element copy wherever the immersion glues across the patch);
-//  - an adjacency joins local regions of two elements sharing a face (D vertices) whose parts of
-//    the face meet along a positive measure; with an invalid patch the contact is free of the
+//  - an adjacency joins local regions of two elements sharing a face (D vertices; not stored,
+//    it follows from the two elements) whose parts of the face meet along a positive measure; with an invalid patch the contact is free of the
 //    input (both lie in one region), otherwise it lies on the patch, `first` on its inner side.
 // Regions of local regions that no input piece bounds follow from the input-free adjacencies
 // (union-find) and, for a component with no known member, one exact point location.
@@ -21,13 +21,17 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <tuple>
 #include <vector>
 
 #include "core/diagnostics.h"
+#include "core/huge_pages.h"
 #include "core/ids.h"
+#include "core/parallel.h"
 #include "core/unglue.h"
 #include "core/union_find.h"
 
@@ -50,17 +54,41 @@ struct LocalRegions {
   };
   std::vector<Fusion> fusions;  ///< one per (element, patch, pair of local regions)
 
-  /// Two local regions of two elements sharing `face`. Invalid `patch`: the contact is free of the
-  /// input and both lie in one region. Valid: the input runs in the face along `patch`, `first`
-  /// on its inner side, `second` on its outer side (2D only: in 3D the input meets a background
-  /// face generically, never along a positive area).
+  /// Two local regions of two elements sharing a face (face()). Invalid `patch`: the contact is
+  /// free of the input and both lie in one region. Valid: the input runs in the face along
+  /// `patch`, `first` on its inner side, `second` on its outer side (2D only: in 3D the input
+  /// meets a background face generically, never along a positive area). The face is not stored:
+  /// it is the D vertices the two elements share (12 of 24 bytes in 3D, on the largest array of
+  /// meshing at scale; BENCHMARKS.md, issue 17).
   struct Adjacency {
     std::uint32_t first;
     std::uint32_t second;
     PatchId patch;
-    std::array<int, D> face;  ///< background vertex ids
   };
   std::vector<Adjacency> adjacencies;
+
+  /// The face two elements share: the D vertex ids both have, ascending.
+  /// @throws InvariantError unless they share exactly D (the face pairing refuses two elements
+  /// with the same vertices).
+  template <class Element>
+  static std::array<int, D> shared_face(const Element& a, const Element& b) {
+    std::array<int, D> face{};
+    int n = 0;
+    for (const auto v : a)
+      if (std::find(b.begin(), b.end(), v) != b.end()) {
+        IMM_ASSERT(n < D, "an adjacency between two elements with the same vertices");
+        face[static_cast<std::size_t>(n++)] = static_cast<int>(v);
+      }
+    IMM_ASSERT(n == D, "an adjacency between two elements that share no face");
+    std::sort(face.begin(), face.end());
+    return face;
+  }
+  /// The face across which adjacency `a` joins its local regions, from the background
+  /// `elements` (D + 1 vertex ids each) these local regions were computed on.
+  template <class Elements>
+  [[nodiscard]] std::array<int, D> face(const Adjacency& a, const Elements& elements) const {
+    return shared_face(elements[element[a.first]], elements[element[a.second]]);
+  }
 
   /// Where each input vertex (input order) sits: a local region on the inner side of its patch
   /// touching the vertex, and exact barycentric coordinates in that element, rounded once.
@@ -120,15 +148,15 @@ struct LocalRegions {
                            }),
                list.end());
   }
-  /// Sorts and de-duplicates adjacencies (each contact is found once per part of a face).
+  /// Sorts and de-duplicates adjacencies (each contact is found once per part of a face; two
+  /// elements share one face, so the pair of local regions and the patch say which).
   static void normalise(std::vector<Adjacency>& list) {
     std::sort(list.begin(), list.end(), [](const Adjacency& a, const Adjacency& b) {
-      return std::tie(a.first, a.second, a.patch, a.face) < std::tie(b.first, b.second, b.patch, b.face);
+      return std::tie(a.first, a.second, a.patch) < std::tie(b.first, b.second, b.patch);
     });
     list.erase(std::unique(list.begin(), list.end(),
                            [](const Adjacency& a, const Adjacency& b) {
-                             return a.first == b.first && a.second == b.second && a.patch == b.patch &&
-                                    a.face == b.face;
+                             return a.first == b.first && a.second == b.second && a.patch == b.patch;
                            }),
                list.end());
   }
@@ -142,31 +170,53 @@ struct LocalRegions {
 
   /// Gives every local region its region of the complex: local regions joined by an input-free
   /// adjacency lie in one region; each such component takes the region of any member known from
-  /// an input piece, and a component with none is located once, by `locate(lr)` on one member
-  /// (exact point location; counted in point_locations).
+  /// an input piece, and a component with none is located once, by `locate(lr)` on its smallest
+  /// member (exact point location, on the calling thread, in member order; counted in
+  /// point_locations). The unions and the passes over local regions run on `threads` threads;
+  /// every component is rooted at its smallest member (MinRootUnionFind), so the regions and the
+  /// located members are the same for every count.
   /// @throws InvariantError when two different known regions meet across an input-free adjacency.
   template <class Locate>
-  void resolve_regions(const Locate& locate) {
+  void resolve_regions(const Locate& locate, unsigned threads = 1) {
+    constexpr std::size_t kBlock = 1 << 14;
     const std::size_t n = region.size();
-    UnionFind same(n);
-    for (const Adjacency& a : adjacencies)
-      if (!a.patch.is_valid()) same.unite(a.first, a.second);
-    std::vector<RegionId> root_region(n);
-    for (std::uint32_t lr = 0; lr < n; ++lr) {
-      if (!region[lr].is_valid()) continue;
-      RegionId& r = root_region[same.find(lr)];
-      IMM_ASSERT(!r.is_valid() || r == region[lr], "two regions meet across an element face free of the input");
-      r = region[lr];
-    }
-    for (std::uint32_t lr = 0; lr < n; ++lr) {
-      if (region[lr].is_valid()) continue;
-      RegionId& r = root_region[same.find(lr)];
-      if (!r.is_valid()) {
-        r = locate(lr);
+    MinRootUnionFind same(n, threads);
+    parallel_blocks(threads, adjacencies.size(), kBlock, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        if (!adjacencies[i].patch.is_valid()) same.unite(adjacencies[i].first, adjacencies[i].second);
+    });
+    // Per root, the region a member is known to lie in (a compare-and-swap from "unknown": any
+    // two known members of a component must agree, whichever writes first).
+    using Raw = typename RegionId::value_type;
+    const std::unique_ptr<Raw[]> root_region = uninitialized_array<Raw>(n);
+    parallel_blocks(threads, n, kBlock, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t lr = begin; lr < end; ++lr) root_region[lr] = RegionId::kInvalid;
+    });
+    parallel_blocks(threads, n, kBlock, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t lr = begin; lr < end; ++lr) {
+        if (!region[lr].is_valid()) continue;
+        std::atomic_ref<Raw> r(root_region[same.find(static_cast<std::uint32_t>(lr))]);
+        Raw expected = RegionId::kInvalid;
+        if (!r.compare_exchange_strong(expected, region[lr].value(), std::memory_order_relaxed))
+          IMM_ASSERT(expected == region[lr].value(), "two regions meet across an element face free of the input");
+      }
+    });
+    // Components with no known member: their roots (smallest members), in order, located here.
+    std::vector<std::vector<std::uint32_t>> unknown((n + kBlock - 1) / kBlock);
+    parallel_blocks(threads, n, kBlock, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t lr = begin; lr < end; ++lr)
+        if (!RegionId(root_region[lr]).is_valid() && same.find(static_cast<std::uint32_t>(lr)) == lr)
+          unknown[begin / kBlock].push_back(static_cast<std::uint32_t>(lr));
+    });
+    for (const std::vector<std::uint32_t>& roots : unknown)
+      for (const std::uint32_t root : roots) {
+        root_region[root] = locate(root).value();
         ++point_locations;
       }
-      region[lr] = r;
-    }
+    parallel_blocks(threads, n, kBlock, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t lr = begin; lr < end; ++lr)
+        if (!region[lr].is_valid()) region[lr] = RegionId(root_region[same.find(static_cast<std::uint32_t>(lr))]);
+    });
   }
 
   // ---- atoms -----------------------------------------------------------------------------

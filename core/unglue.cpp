@@ -26,66 +26,6 @@ int local_index(const std::array<std::int32_t, N>& element, std::int32_t v) {
   return -1;
 }
 
-/// An array of n default-initialised (untouched) values: the scratch arrays below are written
-/// on all threads before they are read, and value-initialising them would be a serial pass.
-template <class T>
-std::unique_ptr<T[]> uninitialized(std::size_t n) {
-  std::unique_ptr<T[]> a(new T[n]);
-  advise_huge_pages(a.get(), n * sizeof(T));  // written whole right away (core/huge_pages.h)
-  return a;
-}
-
-/// v.resize(n) after advising huge pages for its storage: the value-initialisation of a large
-/// array is a serial pass of page faults otherwise (core/huge_pages.h).
-template <class Vector>
-void resize_advised(Vector& v, std::size_t n) {
-  v.reserve(n);
-  advise_huge_pages(v);
-  v.resize(n);
-}
-
-/// Union-find whose unions may run on several threads at once: a root is only ever linked below a
-/// smaller root (compare-and-swap; a lost race retries from the new roots), so the root of every
-/// class is its smallest member, whatever the order of the unions. The classes and their roots
-/// are therefore the same for every thread count, which the unglue numbering relies on. Finds
-/// halve paths (a parent only ever moves to an ancestor, never above the class's root).
-class MinRootUnionFind {
- public:
-  MinRootUnionFind(std::size_t n, unsigned threads) : parent_(uninitialized<std::uint32_t>(n)) {
-    parallel_blocks(threads, n, 1 << 16, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t x = begin; x < end; ++x) parent_[x] = static_cast<std::uint32_t>(x);
-    });
-  }
-  /// The root (smallest member) of x's class; exact once no union runs concurrently.
-  std::uint32_t find(std::uint32_t x) {
-    for (;;) {
-      std::uint32_t parent = link(x).load(std::memory_order_relaxed);
-      if (parent == x) return x;
-      const std::uint32_t grandparent = link(parent).load(std::memory_order_relaxed);
-      // x is no root and never becomes one again, so only other halvings write parent_[x], each
-      // an ancestor of x: a plain store is enough (a lost one only loses compression).
-      if (grandparent != parent) link(x).store(grandparent, std::memory_order_relaxed);
-      x = grandparent;
-    }
-  }
-  /// Frees the parents (the classes are no longer needed; nothing may be called after).
-  void release() { parent_.reset(); }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    for (;;) {
-      a = find(a);
-      b = find(b);
-      if (a == b) return;
-      if (a < b) std::swap(a, b);
-      std::uint32_t expected = a;  // a is still a root: link it below the smaller root b
-      if (link(a).compare_exchange_strong(expected, b, std::memory_order_acq_rel)) return;
-    }
-  }
-
- private:
-  std::atomic_ref<std::uint32_t> link(std::uint32_t x) { return std::atomic_ref<std::uint32_t>(parent_[x]); }
-  std::unique_ptr<std::uint32_t[]> parent_;
-};
-
 }  // namespace
 
 template <int D>
@@ -108,7 +48,7 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
       atoms.unite(a, b);
     }
   });
-  std::unique_ptr<std::uint32_t[]> atom_root = uninitialized<std::uint32_t>(atom_count);
+  std::unique_ptr<std::uint32_t[]> atom_root = uninitialized_array<std::uint32_t>(atom_count);
   parallel_blocks(threads, atom_count, kBlock, [&](std::size_t begin, std::size_t end) {
     for (std::size_t a = begin; a < end; ++a) {
       IMM_ASSERT(input.atoms[a].element < element_count, "atom element out of range");
@@ -135,7 +75,7 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
   // its class (MinRootUnionFind), so the copies are the roots counted in order. Its node is the
   // smallest among its atoms, all later in the same element's run.
   UnglueResult<D> out;
-  std::unique_ptr<std::uint32_t[]> root_copy = uninitialized<std::uint32_t>(atom_count);  // set at roots
+  std::unique_ptr<std::uint32_t[]> root_copy = uninitialized_array<std::uint32_t>(atom_count);  // set at roots
   parallel_ordered_append(
       threads, atom_count,
       [&](std::size_t i) {
@@ -182,26 +122,30 @@ UnglueResult<D> unglue(const UnglueInput<D>& input, unsigned threads) {
       IMM_ASSERT(element_a != element_b, "adjacency inside one element");
       const std::uint32_t copy_a = out.atom_copy[adjacency.first];
       const std::uint32_t copy_b = out.atom_copy[adjacency.second];
-      for (std::int32_t v : adjacency.face) {
-        const int ia = local_index(input.elements[element_a], v);
-        const int ib = local_index(input.elements[element_b], v);
-        IMM_ASSERT(ia >= 0 && ib >= 0,
-                   "adjacency face vertex " + std::to_string(v) + " is not a vertex of both elements");
-        vertices.unite(copy_a * kArity + static_cast<std::uint32_t>(ia),
-                       copy_b * kArity + static_cast<std::uint32_t>(ib));
+      // The shared face: the vertices of element a that element b has too (exactly D of them).
+      std::array<std::pair<int, int>, kArity> shared{};
+      int n = 0;
+      for (int ia = 0; ia < kArity; ++ia) {
+        const int ib = local_index(input.elements[element_b], input.elements[element_a][static_cast<std::size_t>(ia)]);
+        if (ib >= 0) shared[static_cast<std::size_t>(n++)] = {ia, ib};
       }
+      IMM_ASSERT(n == D, "adjacency between elements " + std::to_string(element_a) + " and " +
+                             std::to_string(element_b) + " sharing " + std::to_string(n) + " vertices, not a face");
+      for (int k = 0; k < D; ++k)
+        vertices.unite(copy_a * kArity + static_cast<std::uint32_t>(shared[static_cast<std::size_t>(k)].first),
+                       copy_b * kArity + static_cast<std::uint32_t>(shared[static_cast<std::size_t>(k)].second));
     }
   });
 
   // 3. Compact numbering, in order of first use by the copies: a class's first use is its
   // smallest vertex copy, its root.
   const std::size_t slot_count = copy_count * kArity;
-  const std::unique_ptr<std::uint32_t[]> slot_root = uninitialized<std::uint32_t>(slot_count);
+  const std::unique_ptr<std::uint32_t[]> slot_root = uninitialized_array<std::uint32_t>(slot_count);
   parallel_blocks(threads, slot_count, kBlock, [&](std::size_t begin, std::size_t end) {
     for (std::size_t s = begin; s < end; ++s) slot_root[s] = vertices.find(static_cast<std::uint32_t>(s));
   });
   vertices.release();
-  const std::unique_ptr<std::int32_t[]> class_id = uninitialized<std::int32_t>(slot_count);  // set at roots
+  const std::unique_ptr<std::int32_t[]> class_id = uninitialized_array<std::int32_t>(slot_count);  // set at roots
   parallel_ordered_append(
       threads, slot_count, [&](std::size_t s) { return static_cast<std::size_t>(slot_root[s] == s); },
       [&](std::size_t total) {
@@ -284,19 +228,17 @@ void AtomExpansion<D>::fuse(std::uint32_t inner, std::uint32_t outer, PatchId pa
 }
 
 template <int D>
-void AtomExpansion<D>::connect(std::uint32_t first, std::uint32_t second, const std::array<std::int32_t, D>& face) {
+void AtomExpansion<D>::connect(std::uint32_t first, std::uint32_t second) {
   const CellId cell = complex_.cell_of(region_[first]);
   if (!cell.is_valid()) return;
   for (int k = 0; k < complex_.winding_number(cell); ++k)
     input_.adjacencies.push_back({atom_first_[first] + static_cast<std::uint32_t>(k),
-                                  atom_first_[second] + static_cast<std::uint32_t>(k), face});
+                                  atom_first_[second] + static_cast<std::uint32_t>(k)});
 }
 
 template <int D>
-void AtomExpansion<D>::connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch,
-                                      const std::array<std::int32_t, D>& face) {
-  for (const ImmersionEdge& e : edges_across_[patch])
-    input_.adjacencies.push_back({atom(inner, e.inner), atom(outer, e.outer), face});
+void AtomExpansion<D>::connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch) {
+  for (const ImmersionEdge& e : edges_across_[patch]) input_.adjacencies.push_back({atom(inner, e.inner), atom(outer, e.outer)});
 }
 
 template class AtomExpansion<2>;

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/cell_complex.h"
+#include "core/huge_pages.h"
 #include "core/ids.h"
 #include "core/immersion_graph.h"
 #include "core/parallel.h"
@@ -44,12 +45,15 @@ struct UnglueAtom {
   std::int32_t local_region = 0; ///< the caller's id of the local region within the element
 };
 
-/// Two atoms of two elements that share a face and are connected across it.
+/// Two atoms of two elements that share a face and are connected across it. The face is not
+/// stored: it is the D vertices the two elements share (8 bytes an adjacency instead of
+/// 8 + 4 D, on one of the largest arrays of meshing at scale; BENCHMARKS.md, issue 17).
+/// Trivially default-constructible (no member initialisers): the driver's list of them grows
+/// without a serial zeroing pass (DefaultInitAllocator), every entry written on all threads.
 template <int D>
 struct UnglueAdjacency {
-  std::uint32_t first = 0;   ///< atom index
-  std::uint32_t second = 0;  ///< atom index, in another element
-  std::array<std::int32_t, D> face{};  ///< background vertex ids of the shared face (any order)
+  std::uint32_t first;   ///< atom index
+  std::uint32_t second;  ///< atom index, in another element sharing a face (D vertices) with its
 };
 
 /// The input of unglue(): the background mesh and what the element cutting found.
@@ -60,7 +64,7 @@ struct UnglueInput {
   std::vector<UnglueAtom> atoms;
   /// Pairs of atom indices in the same element that belong to the same element copy.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> fusions;
-  std::vector<UnglueAdjacency<D>> adjacencies;
+  std::vector<UnglueAdjacency<D>, DefaultInitAllocator<UnglueAdjacency<D>>> adjacencies;
 };
 
 /// The unglued mesh: element copies over merged vertex copies.
@@ -82,8 +86,8 @@ struct UnglueResult {
 };
 
 /// Duplicates elements per union-find class of atoms and connects the copies.
-/// @pre every fusion joins two atoms of one element; every adjacency joins atoms of two different
-///      elements and its face vertices belong to both (checked: InvariantError otherwise).
+/// @pre every fusion joins two atoms of one element; every adjacency joins atoms of two elements
+///      sharing exactly D vertices, its face (checked: InvariantError otherwise).
 /// @return copies over compacted vertex ids; elements without atoms have no copy. The same for
 ///         every `threads` (the unions run concurrently, the numbering is by smallest member).
 /// Paper: §7, §7.1.2; Teran et al. 2005, §6.
@@ -114,12 +118,13 @@ class AtomExpansion {
   /// Local regions `inner` and `outer` of one element lie on the two sides of a piece of `patch`
   /// inside it: every graph edge across the patch glues their atoms (one element copy).
   void fuse(std::uint32_t inner, std::uint32_t outer, PatchId patch);
-  /// Local regions of two elements meet across `face`, free of the input (one region): the
-  /// copies of each node are connected.
-  void connect(std::uint32_t first, std::uint32_t second, const std::array<std::int32_t, D>& face);
-  /// Local regions of two elements meet across `face` along a piece of `patch` (the input runs in
-  /// the face; `inner` on the patch's inner side): connected through the graph edges across it.
-  void connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch, const std::array<std::int32_t, D>& face);
+  /// Local regions of two elements meet across their shared face, free of the input (one
+  /// region): the copies of each node are connected.
+  void connect(std::uint32_t first, std::uint32_t second);
+  /// Local regions of two elements meet across their shared face along a piece of `patch` (the
+  /// input runs in the face; `inner` on the patch's inner side): connected through the graph
+  /// edges across it.
+  void connect_across(std::uint32_t inner, std::uint32_t outer, PatchId patch);
 
   /// The atom of local region lr for graph node `node` (a node of the region's cell).
   [[nodiscard]] std::uint32_t atom(std::uint32_t lr, NodeId node) const;
@@ -128,9 +133,9 @@ class AtomExpansion {
   [[nodiscard]] const UnglueInput<D>& input() const { return input_; }
 
   /// Every fusion of `fusions` (fuse(f.inner, f.outer, f.patch)), then every adjacency of
-  /// `adjacencies` (connect_across(a.first, a.second, a.patch, a.face) when a.patch is valid,
-  /// else connect(a.first, a.second, a.face)), in order: the lists these calls would make one by
-  /// one, built on `threads` threads (each item counted, then written at its offset).
+  /// `adjacencies` (connect_across(a.first, a.second, a.patch) when a.patch is valid, else
+  /// connect(a.first, a.second)), in order: the lists these calls would make one by one, built on
+  /// `threads` threads (each item counted, then written at its offset).
   /// Fusion and Adjacency: LocalRegions<D>::Fusion and ::Adjacency (core/local_regions.h).
   template <class Fusion, class Adjacency>
   void glue(const std::vector<Fusion>& fusions, const std::vector<Adjacency>& adjacencies, unsigned threads);
@@ -158,13 +163,13 @@ void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vecto
   const std::size_t fused_before = fused.size();
   parallel_ordered_append(
       threads, fusions.size(), [&](std::size_t i) { return edges_across_[fusions[i].patch].size(); },
-      [&](std::size_t total) { fused.resize(fused_before + total); },
+      [&](std::size_t total) { resize_advised(fused, fused_before + total); },
       [&](std::size_t i, std::size_t at) {
         const Fusion& f = fusions[i];
         for (const ImmersionEdge& e : edges_across_[f.patch])
           fused[fused_before + at++] = {atom(f.inner, e.inner), atom(f.outer, e.outer)};
       });
-  std::vector<UnglueAdjacency<D>>& connected = input_.adjacencies;
+  auto& connected = input_.adjacencies;
   const std::size_t connected_before = connected.size();
   parallel_ordered_append(
       threads, adjacencies.size(),
@@ -172,19 +177,17 @@ void AtomExpansion<D>::glue(const std::vector<Fusion>& fusions, const std::vecto
         const Adjacency& a = adjacencies[i];
         return a.patch.is_valid() ? edges_across_[a.patch].size() : connect_count(a.first);
       },
-      [&](std::size_t total) { connected.resize(connected_before + total); },
+      [&](std::size_t total) { resize_advised(connected, connected_before + total); },
       [&](std::size_t i, std::size_t at) {
         const Adjacency& a = adjacencies[i];
-        std::array<std::int32_t, D> face{};
-        std::copy(a.face.begin(), a.face.end(), face.begin());
         if (a.patch.is_valid()) {
           for (const ImmersionEdge& e : edges_across_[a.patch])
-            connected[connected_before + at++] = {atom(a.first, e.inner), atom(a.second, e.outer), face};
+            connected[connected_before + at++] = {atom(a.first, e.inner), atom(a.second, e.outer)};
         } else {
           const std::size_t n = connect_count(a.first);
           for (std::size_t k = 0; k < n; ++k)
             connected[connected_before + at++] = {atom_first_[a.first] + static_cast<std::uint32_t>(k),
-                                                  atom_first_[a.second] + static_cast<std::uint32_t>(k), face};
+                                                  atom_first_[a.second] + static_cast<std::uint32_t>(k)};
         }
       });
 }

@@ -602,7 +602,7 @@ class LocalRegionBuilder {
             d.facets = {a.triangle, b.triangle};
             report_.add(std::move(d));
           } else {
-            connect_edge(a.triangle, a.k, b.triangle, b.k, edge);
+            connect_edge(a.triangle, a.k, b.triangle, b.k);
           }
         }
         i = j;
@@ -610,9 +610,9 @@ class LocalRegionBuilder {
     }
   }
 
-  void connect_edge(std::uint32_t ta, int ka, std::uint32_t tb, int kb, std::array<int, 2> edge) {
+  void connect_edge(std::uint32_t ta, int ka, std::uint32_t tb, int kb) {
     if (cut_index_[ta] == kNone && cut_index_[tb] == kNone) {
-      out_.adjacencies.push_back({out_.first[ta], out_.first[tb], PatchId(), edge});
+      out_.adjacencies.push_back({out_.first[ta], out_.first[tb], PatchId()});
       return;
     }
     const auto& va = background_.triangles[ta];
@@ -634,11 +634,11 @@ class LocalRegionBuilder {
       const EdgeInterval& y = b[j];
       IMM_ASSERT(x.patch == y.patch, "the input runs along a background edge on one side only");
       if (!x.patch.is_valid()) {
-        found.push_back({x.local_region, y.local_region, PatchId(), edge});
+        found.push_back({x.local_region, y.local_region, PatchId()});
       } else {
         IMM_ASSERT(x.inner != y.inner, "both sides of a background edge on one side of the input");
-        found.push_back(x.inner ? LocalRegions::Adjacency{x.local_region, y.local_region, x.patch, edge}
-                                : LocalRegions::Adjacency{y.local_region, x.local_region, x.patch, edge});
+        found.push_back(x.inner ? LocalRegions::Adjacency{x.local_region, y.local_region, x.patch}
+                                : LocalRegions::Adjacency{y.local_region, x.local_region, x.patch});
       }
       if (before(x.target, y.target, dir)) {
         ++i;

@@ -726,13 +726,12 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
   AtomExpansion<3> expansion(cc, immersion, first, region, tets);
   for (const auto& [key, pair] : faces) {
     if (pair[1] == kNone) continue;
-    const std::array<std::int32_t, 3> face = key.v;
     const auto found = facet_of.find(key);
     if (found == facet_of.end()) {
-      expansion.connect(pair[0], pair[1], face);
+      expansion.connect(pair[0], pair[1]);
     } else {
       const std::uint32_t x = found->second;
-      expansion.connect_across(facet_tets[x][0], facet_tets[x][1], complex.cut_triangle_patch[x], face);
+      expansion.connect_across(facet_tets[x][0], facet_tets[x][1], complex.cut_triangle_patch[x]);
     }
   }
   const UnglueInput<3>& input = expansion.input();

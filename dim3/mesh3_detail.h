@@ -167,7 +167,7 @@ void assemble(const Complex& complex, const Immersion& immersion, const TetMesh&
               const LocalRegions& local, std::size_t input_vertices, std::size_t input_triangles,
               bool record_contents, MeshResult& result, unsigned threads = 1);
 /// The same for a caller done with `local` (mesh_immersion): its adjacencies, the largest array
-/// of the meshing (24 bytes per background face), are released once glued, before the unglue
+/// of the meshing (12 bytes per background face), are released once glued, before the unglue
 /// allocates, which lowers the peak memory by as much (BENCHMARKS.md, issue 17).
 void assemble(const Complex& complex, const Immersion& immersion, const TetMesh& background,
               LocalRegions&& local, std::size_t input_vertices, std::size_t input_triangles,

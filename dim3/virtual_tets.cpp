@@ -1058,21 +1058,41 @@ class VirtualTets {
     std::vector<std::uint32_t>().swap(star_first);
     // Defects (in face-key order) and boundary faces (in face order: the coverage check reports
     // the one with the smallest key, no sort of them all).
+    // Two tets paired across two faces have the same four vertices (one tet twice): a defect,
+    // since an adjacency's face is the three vertices its two tets share (LocalRegions::face).
     std::vector<std::pair<std::array<int, 3>, std::uint32_t>> shared_by_more;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> same_vertices;
     {
       std::vector<std::vector<std::uint32_t>> chunk_boundary(tet_chunks);
       std::vector<std::vector<std::pair<std::array<int, 3>, std::uint32_t>>> chunk_shared(tet_chunks);
+      std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> chunk_same(tet_chunks);
       parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
         for (std::size_t i = 4 * chunk * kTetChunk; i < 4 * std::min(tet_count, (chunk + 1) * kTetChunk); ++i) {
           const auto face = static_cast<std::uint32_t>(i);
           if (neighbour[i] == kBoundaryFace) chunk_boundary[chunk].push_back(face);
           if (neighbour[i] == kSharedByMore) chunk_shared[chunk].emplace_back(key_of(face / 4, static_cast<int>(face % 4)), face);
+          if (neighbour[i] >= kSharedByMore || face % 4 == 0) continue;
+          const std::uint32_t t = face / 4, s = neighbour[i] / 4;
+          for (std::uint32_t g = 4 * t; g < face; ++g)
+            if (neighbour[g] < kSharedByMore && neighbour[g] / 4 == s && t < s) chunk_same[chunk].emplace_back(t, s);
         }
       }, /*grain=*/1);
       for (std::size_t chunk = 0; chunk < tet_chunks; ++chunk) {
         boundary_.insert(boundary_.end(), chunk_boundary[chunk].begin(), chunk_boundary[chunk].end());
         shared_by_more.insert(shared_by_more.end(), chunk_shared[chunk].begin(), chunk_shared[chunk].end());
+        same_vertices.insert(same_vertices.end(), chunk_same[chunk].begin(), chunk_same[chunk].end());
       }
+    }
+    same_vertices.erase(std::unique(same_vertices.begin(), same_vertices.end()), same_vertices.end());
+    for (const auto& [t, s] : same_vertices) {
+      const Tet& tet = bg_.tets[t];
+      Defect d;
+      d.kind = DefectKind::DuplicateFacet;
+      d.stage = "background";
+      d.message = "background tets " + std::to_string(t) + " and " + std::to_string(s) + " have the same vertices";
+      d.facets = {static_cast<long>(t), static_cast<long>(s)};
+      d.vertices = {tet[0], tet[1], tet[2], tet[3]};
+      report_.add(std::move(d));
     }
     std::sort(shared_by_more.begin(), shared_by_more.end());
     for (std::size_t i = 0; i < shared_by_more.size();) {
@@ -1113,17 +1133,16 @@ class VirtualTets {
         if (other >= kSharedByMore || other / 4 < t) continue;
         const std::uint32_t s = other / 4;
         const auto g = static_cast<std::uint8_t>(other % 4);
-        const std::array<int, 3> key = key_of(t, f);
         const auto [alo, ahi] = traces_of(t, f);
         const auto [blo, bhi] = traces_of(s, g);
         IMM_ASSERT(ahi - alo == bhi - blo, "a cut triangle crosses a shared face in one tet only");
         if (alo == ahi) {
-          list.push_back({face_lr(t, f), face_lr(s, g), PatchId(), key});
+          list.push_back({face_lr(t, f), face_lr(s, g), PatchId()});
         } else {
           for (auto x = alo, y = blo; x != ahi; ++x, ++y) {
             IMM_ASSERT(x->triangle == y->triangle, "the two tets of a face see different traces");
-            list.push_back({x->outer, y->outer, PatchId(), key});
-            list.push_back({x->inner, y->inner, PatchId(), key});
+            list.push_back({x->outer, y->outer, PatchId()});
+            list.push_back({x->inner, y->inner, PatchId()});
           }
         }
       }
@@ -1180,7 +1199,7 @@ class VirtualTets {
   // ---- regions --------------------------------------------------------------------------------
 
   void resolve_regions() {
-    out_.resolve_regions([&](std::uint32_t lr) { return locate(out_.element[lr]); });
+    out_.resolve_regions([&](std::uint32_t lr) { return locate(out_.element[lr]); }, threads_);
   }
 
 

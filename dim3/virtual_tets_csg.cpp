@@ -39,6 +39,7 @@
 #include <chrono>
 #include <exception>
 #include <map>
+#include <set>
 #include <optional>
 #include <unordered_map>
 
@@ -564,6 +565,7 @@ class CsgTets {
 
   void connect_faces() {
     std::map<std::array<int, 3>, std::vector<std::pair<std::uint32_t, int>>> faces;
+    std::set<std::pair<std::uint32_t, std::uint32_t>> same_vertices;
     for (std::uint32_t t = 0; t < bg_.tets.size(); ++t)
       for (int f = 0; f < 4; ++f) faces[face_key(t, f)].emplace_back(t, f);
     for (const auto& [key, sides] : faces) {
@@ -583,10 +585,27 @@ class CsgTets {
       }
       const auto [t1, f1] = sides[0];
       const auto [t2, f2] = sides[1];
+      std::array<int, 4> v1 = bg_.tets[t1], v2 = bg_.tets[t2];
+      std::sort(v1.begin(), v1.end());
+      std::sort(v2.begin(), v2.end());
+      if (v1 == v2) {
+        // One tet twice: an adjacency's face is the three vertices its two tets share
+        // (LocalRegions::face); refused as in dim3/virtual_tets.cpp, once per pair.
+        if (same_vertices.insert({t1, t2}).second) {
+          Defect d;
+          d.kind = DefectKind::DuplicateFacet;
+          d.stage = "background";
+          d.message = "background tets " + std::to_string(t1) + " and " + std::to_string(t2) + " have the same vertices";
+          d.facets = {static_cast<long>(t1), static_cast<long>(t2)};
+          d.vertices = {v1[0], v1[1], v1[2], v1[3]};
+          report_.add(std::move(d));
+        }
+        continue;
+      }
       const std::vector<FacePart>& a = parts_[4 * t1 + static_cast<std::size_t>(f1)];
       const std::vector<FacePart>& b = parts_[4 * t2 + static_cast<std::size_t>(f2)];
       const std::uint32_t base1 = out_.first[t1], base2 = out_.first[t2];
-      const auto add = [&](std::uint32_t x, std::uint32_t y) { out_.adjacencies.push_back({base1 + x, base2 + y, PatchId(), key}); };
+      const auto add = [&](std::uint32_t x, std::uint32_t y) { out_.adjacencies.push_back({base1 + x, base2 + y, PatchId()}); };
       if (a.size() == 1 || b.size() == 1) {
         // One side is a single part covering the face: it overlaps every part of the other.
         for (const FacePart& x : a)
@@ -612,7 +631,7 @@ class CsgTets {
   // ---- regions --------------------------------------------------------------------------------
 
   void resolve_regions() {
-    out_.resolve_regions([&](std::uint32_t lr) { return locate(out_.element[lr]); });
+    out_.resolve_regions([&](std::uint32_t lr) { return locate(out_.element[lr]); }, threads_);
   }
 
 

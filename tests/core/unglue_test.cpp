@@ -40,7 +40,7 @@ TEST(Unglue, TwoTrianglesSharingAnEdge) {
   const UnglueResult<2> apart = unglue<2>(input);
   EXPECT_EQ(apart.copies.size(), 2u);
   EXPECT_EQ(apart.vertex_source.size(), 6u);  // not connected: every vertex duplicated
-  input.adjacencies = {{0, 1, {1, 2}}};
+  input.adjacencies = {{0, 1}};  // across their shared edge (1, 2)
   const UnglueResult<2> joined = unglue<2>(input);
   EXPECT_EQ(joined.vertex_source.size(), 4u);
   EXPECT_EQ(distinct_vertices(joined), 4u);
@@ -72,7 +72,7 @@ TEST(Unglue, OpenFanDuplicatesOnlyTheCutVertex) {
   UnglueInput<2> input;
   input.elements = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}};
   for (std::uint32_t e = 0; e < 4; ++e) input.atoms.push_back({e, NodeId(0), 0});
-  input.adjacencies = {{0, 1, {0, 2}}, {1, 2, {0, 3}}, {2, 3, {0, 4}}};
+  input.adjacencies = {{0, 1}, {1, 2}, {2, 3}};  // across spokes (0, 2), (0, 3), (0, 4)
   const UnglueResult<2> r = unglue<2>(input);
   EXPECT_EQ(r.vertex_source.size(), 6u);
   std::multiset<int> sources(r.vertex_source.begin(), r.vertex_source.end());
@@ -84,7 +84,7 @@ TEST(Unglue, TetrahedraUseTheSameDriver) {
   UnglueInput<3> input;
   input.elements = {{0, 1, 2, 3}, {1, 2, 3, 4}};
   input.atoms = {{0, NodeId(0), 0}, {1, NodeId(0), 0}, {1, NodeId(1), 1}};
-  input.adjacencies = {{0, 1, {1, 2, 3}}};
+  input.adjacencies = {{0, 1}};  // across their shared face (1, 2, 3)
   const UnglueResult<3> r = unglue<3>(input);
   ASSERT_EQ(r.copies.size(), 3u);
   // Copy of atom 2 (node 1, another local region of tet 1) is on its own: 4 fresh vertices.
@@ -94,14 +94,17 @@ TEST(Unglue, TetrahedraUseTheSameDriver) {
 
 TEST(Unglue, RejectsFusionAcrossElements) {
   UnglueInput<2> input;
-  input.elements = {{0, 1, 2}, {2, 1, 3}};
-  input.atoms = {{0, NodeId(0), 0}, {1, NodeId(0), 0}};
+  input.elements = {{0, 1, 2}, {2, 1, 3}, {2, 3, 4}, {2, 0, 1}};
+  input.atoms = {{0, NodeId(0), 0}, {1, NodeId(0), 0}, {2, NodeId(0), 0}, {3, NodeId(0), 0}};
   input.fusions = {{0, 1}};
   EXPECT_THROW(unglue<2>(input), InvariantError);
   input.fusions.clear();
-  input.adjacencies = {{0, 1, {0, 2}}};  // vertex 0 is not in element 1
-  EXPECT_THROW(unglue<2>(input), InvariantError);
-  EXPECT_THROW(unglue<2>(input, 3), InvariantError);
+  for (const std::pair<std::uint32_t, std::uint32_t> pair : {std::pair<std::uint32_t, std::uint32_t>{0, 2},  // one vertex
+                                                             {0, 3}}) {  // all three: one triangle twice
+    input.adjacencies = {{pair.first, pair.second}};
+    EXPECT_THROW(unglue<2>(input), InvariantError);
+    EXPECT_THROW(unglue<2>(input, 3), InvariantError);
+  }
 }
 
 /// The driver as it was written sequentially (one plain union-find, numbering by a walk in
@@ -136,9 +139,12 @@ UnglueResult<D> sequential_unglue(const UnglueInput<D>& input) {
   };
   for (const UnglueAdjacency<D>& adjacency : input.adjacencies) {
     const std::uint32_t ea = input.atoms[adjacency.first].element, eb = input.atoms[adjacency.second].element;
-    for (int v : adjacency.face)
-      vertices.unite(out.atom_copy[adjacency.first] * kArity + position(ea, v),
-                     out.atom_copy[adjacency.second] * kArity + position(eb, v));
+    std::set<int> face(input.elements[ea].begin(), input.elements[ea].end());  // the vertices both have
+    std::set<int> other(input.elements[eb].begin(), input.elements[eb].end());
+    for (int v : face)
+      if (other.count(v) > 0)
+        vertices.unite(out.atom_copy[adjacency.first] * kArity + position(ea, v),
+                       out.atom_copy[adjacency.second] * kArity + position(eb, v));
   }
   std::vector<std::int32_t> class_id(vertices.size(), -1);
   out.copies.resize(out.copy_element.size());
@@ -190,13 +196,13 @@ UnglueInput<2> random_grid_input(int n, std::uint32_t seed, bool shuffle_atoms) 
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const auto lower = static_cast<std::uint32_t>(2 * (i * n + j));  // its diagonal: the upper one
-      const auto connect = [&](std::uint32_t a, std::uint32_t b, std::array<std::int32_t, 2> face) {
+      const auto connect = [&](std::uint32_t a, std::uint32_t b) {  // across the edge a and b share
         for (int k = 0; k < 2; ++k)
-          if (rng() % 4 != 0) input.adjacencies.push_back({pick(a), pick(b), face});
+          if (rng() % 4 != 0) input.adjacencies.push_back({pick(a), pick(b)});
       };
-      connect(lower, lower + 1, {vertex(i, j), vertex(i + 1, j + 1)});
-      if (i + 1 < n) connect(lower, lower + 2 * static_cast<std::uint32_t>(n) + 1, {vertex(i + 1, j), vertex(i + 1, j + 1)});
-      if (j + 1 < n) connect(lower + 1, lower + 2, {vertex(i, j + 1), vertex(i + 1, j + 1)});
+      connect(lower, lower + 1);
+      if (i + 1 < n) connect(lower, lower + 2 * static_cast<std::uint32_t>(n) + 1);
+      if (j + 1 < n) connect(lower + 1, lower + 2);
     }
   return input;
 }

@@ -73,7 +73,8 @@ struct Summary {
   std::size_t cut_triangles = 0;
 };
 
-Summary summarize(const LocalRegions& lr, std::size_t triangles) {
+Summary summarize(const LocalRegions& lr, const std::vector<std::array<int, 3>>& background) {
+  const std::size_t triangles = background.size();
   Summary s;
   EXPECT_EQ(lr.first.size(), triangles + 1);
   EXPECT_EQ(lr.region.size(), lr.element.size());
@@ -93,7 +94,8 @@ Summary summarize(const LocalRegions& lr, std::size_t triangles) {
     // Free adjacencies are unordered: sort their regions.
     int x = lr.region[a.first].value(), y = lr.region[a.second].value();
     if (!a.patch.is_valid() && x > y) std::swap(x, y);
-    s.adjacencies[{std::min(a.face[0], a.face[1]), std::max(a.face[0], a.face[1])}].insert(
+    const std::array<int, 2> edge = lr.face(a, background);
+    s.adjacencies[{edge[0], edge[1]}].insert(
         {x, y, a.patch.value()});
   }
   for (const auto& v : lr.vertices) {
@@ -187,8 +189,8 @@ TEST(Csg, SameLocalRegionsAsClipping) {
     ASSERT_TRUE(csg_report.ok());
 
     const std::size_t n = background.triangles.size();
-    const Summary a = summarize(clip, n);
-    const Summary b = summarize(csg, n);
+    const Summary a = summarize(clip, background.triangles);
+    const Summary b = summarize(csg, background.triangles);
     if (c.conforming) {
       // No triangle is cut; the input runs along background edges instead.
       EXPECT_EQ(a.cut_triangles, 0u);

@@ -44,7 +44,7 @@ struct Colours {
   std::vector<std::uint32_t> a, b;
 };
 
-Colours refine(const LocalRegions& x, const LocalRegions& y, int rounds) {
+Colours refine(const LocalRegions& x, const LocalRegions& y, const TetMesh& background, int rounds) {
   using Signature = std::vector<std::int64_t>;
   const auto initial = [](const LocalRegions& r, std::map<Signature, std::uint32_t>& ids) {
     std::vector<std::uint32_t> c(r.region.size());
@@ -54,7 +54,7 @@ Colours refine(const LocalRegions& x, const LocalRegions& y, int rounds) {
   };
   std::map<Signature, std::uint32_t> ids;
   Colours c{initial(x, ids), initial(y, ids)};
-  const auto step = [](const LocalRegions& r, const std::vector<std::uint32_t>& colour,
+  const auto step = [&background](const LocalRegions& r, const std::vector<std::uint32_t>& colour,
                        std::map<Signature, std::uint32_t>& next) {
     std::vector<std::vector<std::array<std::int64_t, 5>>> around(r.region.size());
     for (const auto& f : r.fusions) {
@@ -62,8 +62,9 @@ Colours refine(const LocalRegions& x, const LocalRegions& y, int rounds) {
       around[f.outer].push_back({1, f.patch.value(), colour[f.inner], 0, 0});
     }
     for (const auto& a : r.adjacencies) {
-      around[a.first].push_back({2, a.face[0], a.face[1], a.face[2], colour[a.second]});
-      around[a.second].push_back({2, a.face[0], a.face[1], a.face[2], colour[a.first]});
+      const std::array<int, 3> face = r.face(a, background.tets);
+      around[a.first].push_back({2, face[0], face[1], face[2], colour[a.second]});
+      around[a.second].push_back({2, face[0], face[1], face[2], colour[a.first]});
     }
     std::vector<std::uint32_t> out(r.region.size());
     for (std::size_t i = 0; i < out.size(); ++i) {
@@ -91,13 +92,13 @@ Fusions fusions_in(const LocalRegions& r, const std::vector<std::uint32_t>& colo
   return out;
 }
 
-Adjacencies adjacencies_in(const LocalRegions& r, const std::vector<std::uint32_t>& colour) {
+Adjacencies adjacencies_in(const LocalRegions& r, const TetMesh& background, const std::vector<std::uint32_t>& colour) {
   Adjacencies out;
   for (const auto& a : r.adjacencies) {
     // Ordered by tet: both paths put the smaller tet first, but do not rely on it.
     std::uint32_t p = a.first, q = a.second;
     if (r.element[p] > r.element[q]) std::swap(p, q);
-    out.emplace_back(a.face, colour[p], colour[q]);
+    out.emplace_back(r.face(a, background.tets), colour[p], colour[q]);
   }
   std::sort(out.begin(), out.end());
   return out;
@@ -158,13 +159,13 @@ void expect_same_duplication(const Surface& surface, const std::string& name, in
   EXPECT_EQ(csg.embedded.size(), clip.embedded.size());
 
   // The same connections, up to renumbering within tets.
-  const Colours colour = refine(clip, csg, 4);
+  const Colours colour = refine(clip, csg, background, 4);
   std::vector<std::uint32_t> a = colour.a, b = colour.b;
   std::sort(a.begin(), a.end());
   std::sort(b.begin(), b.end());
   EXPECT_EQ(a, b);
   EXPECT_EQ(fusions_in(clip, colour.a), fusions_in(csg, colour.b));
-  EXPECT_EQ(adjacencies_in(clip, colour.a), adjacencies_in(csg, colour.b));
+  EXPECT_EQ(adjacencies_in(clip, background, colour.a), adjacencies_in(csg, background, colour.b));
   const auto embedded_in = [](const LocalRegions& r, const std::vector<std::uint32_t>& colours) {
     std::vector<std::tuple<std::uint32_t, std::uint32_t, bool>> out;
     for (const auto& e : r.embedded) out.emplace_back(colours[e.local_region], e.cut_triangle, e.inner);
@@ -237,7 +238,7 @@ TEST(CsgBaselineThreads, TheThreadCountDoesNotChangeTheResult) {
     ASSERT_EQ(r.adjacencies.size(), one.adjacencies.size());
     for (std::size_t i = 0; i < r.adjacencies.size(); ++i)
       EXPECT_TRUE(r.adjacencies[i].first == one.adjacencies[i].first &&
-                  r.adjacencies[i].second == one.adjacencies[i].second && r.adjacencies[i].face == one.adjacencies[i].face)
+                  r.adjacencies[i].second == one.adjacencies[i].second && r.adjacencies[i].patch == one.adjacencies[i].patch)
           << "adjacency " << i;
     ASSERT_EQ(r.embedded.size(), one.embedded.size());
     for (std::size_t i = 0; i < r.embedded.size(); ++i)

@@ -239,8 +239,7 @@ TEST(VirtualTets, FacePairingMatchesAnIndependentPairingOnEveryThreadCount) {
   ASSERT_GT(r.cut_elements, 0u);
   std::map<std::array<int, 3>, int> adjacencies_on;
   for (const auto& a : r.adjacencies) {
-    std::array<int, 3> key = a.face;
-    std::sort(key.begin(), key.end());
+    const std::array<int, 3> key = r.face(a, background.tets);
     const auto it = tets_of_face.find(key);
     ASSERT_NE(it, tets_of_face.end()) << "an adjacency on no face of the background";
     ASSERT_EQ(it->second.size(), 2u) << "an adjacency on a boundary face";
@@ -266,7 +265,7 @@ TEST(VirtualTets, FacePairingMatchesAnIndependentPairingOnEveryThreadCount) {
     for (std::size_t i = 0; i < r.adjacencies.size(); ++i) {
       EXPECT_EQ(o.adjacencies[i].first, r.adjacencies[i].first);
       EXPECT_EQ(o.adjacencies[i].second, r.adjacencies[i].second);
-      EXPECT_EQ(o.adjacencies[i].face, r.adjacencies[i].face);
+      EXPECT_EQ(o.adjacencies[i].patch, r.adjacencies[i].patch);
     }
     EXPECT_EQ(o.candidate_pairs, r.candidate_pairs);
     EXPECT_EQ(o.polygons, r.polygons);
@@ -318,6 +317,31 @@ TEST(VirtualTets, FaceSharedByThreeTetsIsReported) {
   for (const Defect& d : report.defects)
     if (d.message.find("background face (0, 1, 2) is shared by 3 tets") != std::string::npos) found = true;
   EXPECT_TRUE(found) << report.summary();
+}
+
+// One tet twice (the same four vertices, another even order): an adjacency's face is derived
+// from its two tets (LocalRegions::face), which these do not determine, so both the clipping and
+// the CSG path report the pair instead of pairing them across four faces.
+TEST(VirtualTets, TwoTetsWithTheSameVerticesAreReported) {
+  const SurfaceGenerateResult g = generate_surface("sphere", {});
+  ASSERT_TRUE(g.ok()) << g.error;
+  const Prepared p = prepare(g.surface);
+  TetMesh background;
+  background.vertices = {{10, 0, 0}, {11, 0, 0}, {10, 1, 0}, {10, 0, 1}};
+  background.tets = {{0, 1, 2, 3}, {1, 0, 3, 2}};
+  for (const bool csg : {false, true}) {
+    SCOPED_TRACE(csg ? "csg" : "clipping");
+    ValidationReport report;
+    bool non_generic = false;
+    if (csg)
+      detail::compute_local_regions_csg(p.complex(), background, false, 2, {}, report, non_generic);
+    else
+      detail::compute_local_regions(p.complex(), background, {0, 0, 0}, false, 2, true, report, non_generic);
+    std::size_t found = 0;
+    for (const Defect& d : report.defects)
+      if (d.kind == DefectKind::DuplicateFacet && d.message == "background tets 0 and 1 have the same vertices") ++found;
+    EXPECT_EQ(found, 1u) << report.summary();
+  }
 }
 
 }  // namespace
