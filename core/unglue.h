@@ -21,6 +21,7 @@
 
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -53,8 +54,11 @@ struct UnglueAtom {
 template <int D>
 struct UnglueAdjacency {
   std::uint32_t first;   ///< atom index
-  std::uint32_t second;  ///< atom index, in another element sharing a face (D vertices) with its
+  std::uint32_t second;  ///< atom index, in another element sharing a face (D vertices) with first's
 };
+static_assert(std::is_trivially_default_constructible_v<UnglueAdjacency<2>> &&
+                  std::is_trivially_default_constructible_v<UnglueAdjacency<3>>,
+              "UnglueInput::adjacencies relies on entries left unwritten until the workers fill them");
 
 /// The input of unglue(): the background mesh and what the element cutting found.
 template <int D>

@@ -20,7 +20,7 @@ struct SurfaceGenericity {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
 };
 
-/// Exact test (CGAL Epick predicates on the doubles, box_intersection_d for candidates) that
+/// Exact test (CGAL Epick predicates on the doubles, candidate pairs from dim3/triangle_pairs.h) that
 /// the surface meets itself only in generic crossings: triangles without a shared vertex
 /// either miss each other or cross with every vertex strictly off the other's plane and no edge
 /// meeting an edge of the other; triangles sharing one vertex meet only there; triangles

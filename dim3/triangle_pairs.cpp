@@ -109,6 +109,13 @@ std::vector<std::array<std::uint32_t, 2>> overlapping_triangle_pairs(const Surfa
     for (std::size_t i = index(b.lo[0], 0); i <= index(b.hi[0], 0); ++i)
       for (std::size_t j = index(b.lo[1], 1); j <= index(b.hi[1], 1); ++j)
         for (std::size_t k = index(b.lo[2], 2); k <= index(b.hi[2], 2); ++k) ++cell_first[cell_id(i, j, k) + 1];
+  // The scan below tests every pair of boxes sharing a cell: about the sum over cells of the
+  // square of their box counts. Clustered or elongated inputs (a fine cluster beside one large
+  // triangle, long slivers along one axis) crowd most boxes into a few cells and would make it
+  // quadratic: then the segment tree as well.
+  double tests = 0.0;
+  for (std::size_t c = 1; c <= cells; ++c) tests += static_cast<double>(cell_first[c]) * cell_first[c];
+  if (tests > 256.0 * static_cast<double>(n) + 1e6) return pairs_by_box_intersection(boxes);
   for (std::size_t c = 0; c < cells; ++c) cell_first[c + 1] += cell_first[c];
   std::vector<std::uint32_t> cell_triangles(listed), next(cell_first.begin(), cell_first.end() - 1);
   for (std::uint32_t t = 0; t < n; ++t) {

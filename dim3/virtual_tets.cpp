@@ -1056,8 +1056,9 @@ class VirtualTets {
     }, /*grain=*/1);
     star.reset();  // 16 bytes a tet, not held through the adjacencies below (peak memory)
     std::vector<std::uint32_t>().swap(star_first);
-    // Defects (in face-key order) and boundary faces (in face order: the coverage check reports
-    // the one with the smallest key, no sort of them all).
+    // Defects (tets with the same vertices in tet order, then faces shared by more than two tets
+    // in face-key order) and boundary faces (in face order: the coverage check reports the one
+    // with the smallest key, no sort of them all).
     // Two tets paired across two faces have the same four vertices (one tet twice): a defect,
     // since an adjacency's face is the three vertices its two tets share (LocalRegions::face).
     std::vector<std::pair<std::array<int, 3>, std::uint32_t>> shared_by_more;
@@ -1083,6 +1084,7 @@ class VirtualTets {
         same_vertices.insert(same_vertices.end(), chunk_same[chunk].begin(), chunk_same[chunk].end());
       }
     }
+    std::sort(same_vertices.begin(), same_vertices.end());
     same_vertices.erase(std::unique(same_vertices.begin(), same_vertices.end()), same_vertices.end());
     for (const auto& [t, s] : same_vertices) {
       const Tet& tet = bg_.tets[t];

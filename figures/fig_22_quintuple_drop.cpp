@@ -289,7 +289,7 @@ void run_real(const figures::FigureArgs& args, const std::string& obj, const std
      << "- dynamic FEM (implicit Euler, h = " << fem.time_step << " s, " << steps
      << " steps, co-rotational E = 1e4, nu = 0.3, density 1, at most " << fem.max_newton_iterations
      << " Newton iterations a step), one FemSolver per mesh\n"
-     << "- CPU seconds per step (median / max, this thread): unglued " << step_times(unglued) << ", glued "
+     << "- CPU seconds per step (median / max, the process: all threads): unglued " << step_times(unglued) << ", glued "
      << step_times(glued) << "\n\n"
      << kTableHead << row("unglued", unglued) << row("glued", glued)
      << "\n(\"pairs between held and free parts\": plate-arm pairs; \"mean drop\": of the arms' input vertices, along -y.)\n\n"
@@ -406,7 +406,7 @@ int main(int argc, char** argv) {
        << "): the five tori held, the cylinders free\n\n"
        << kTableHead << row("unglued", unglued) << row("glued", glued);
 
-    md << "\n- CPU seconds per step (median / max, this thread): unglued " << step_times(unglued) << ", glued "
+    md << "\n- CPU seconds per step (median / max, the process: all threads): unglued " << step_times(unglued) << ", glued "
        << step_times(glued) << "\n\nThe paper's quintupleTorus.obj on its .veg runs in full mode when ../shared/data "
        << "is present.\n";
     figures::write(args, "fig22.md", md.str());

@@ -76,6 +76,40 @@ TEST(TrianglePairs, TouchingBoxesCountAndSizesMayVary) {
   }
 }
 
+// Inputs that crowd most boxes into a few grid cells (the scan would be quadratic there, so
+// the segment tree takes over): a dense cluster of small triangles beside one triangle as large
+// as the whole input, and long slivers side by side along one axis.
+TEST(TrianglePairs, CrowdedInputsMatchTheDefinition) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Surface cluster;
+  for (std::uint32_t t = 0; t < 3000; ++t) {
+    const double x = unit(rng), y = unit(rng), z = unit(rng);
+    cluster.vertices.push_back({x, y, z});
+    cluster.vertices.push_back({x + 0.01, y, z});
+    cluster.vertices.push_back({x, y + 0.01, z + 0.01});
+    cluster.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  const auto big = static_cast<std::uint32_t>(cluster.vertices.size());
+  cluster.vertices.push_back({-100, -100, 0.5});
+  cluster.vertices.push_back({100, -100, 0.5});
+  cluster.vertices.push_back({0, 100, 0.6});
+  cluster.triangles.push_back({big, big + 1, big + 2});
+  Surface slivers;
+  for (std::uint32_t t = 0; t < 3000; ++t) {
+    const double y = unit(rng), z = unit(rng);
+    slivers.vertices.push_back({0.0, y, z});
+    slivers.vertices.push_back({1000.0, y + 0.001, z});
+    slivers.vertices.push_back({500.0, y, z + 0.001});
+    slivers.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  for (const Surface* s : {&cluster, &slivers}) {
+    const auto expected = brute_force(*s);
+    ASSERT_FALSE(expected.empty());
+    EXPECT_EQ(overlapping_triangle_pairs(*s, 2), expected) << s->triangle_count() << " triangles";
+  }
+}
+
 TEST(TrianglePairs, SameOnEveryThreadCount) {
   const Surface s = quintuple_torus(20);
   const auto one = overlapping_triangle_pairs(s, 1);
