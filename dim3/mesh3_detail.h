@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "core/diagnostics.h"
@@ -56,6 +57,19 @@ struct LocalRegions : imm::LocalRegions<3> {
   /// (clipping and merge), face pairing, regions of the uncut local regions (flood fill).
   StageSeconds seconds_candidates, seconds_tets, seconds_faces, seconds_regions;
 };
+
+/// The defect of two background tets with the same four vertices (one tet twice): refused by
+/// both meshing paths, since an adjacency's face is the three vertices its two tets share
+/// (LocalRegions::face) and would be ambiguous.
+inline Defect same_vertices_defect(std::uint32_t t, std::uint32_t s, const Tet& vertices) {
+  Defect d;
+  d.kind = DefectKind::DuplicateFacet;
+  d.stage = "background";
+  d.message = "background tets " + std::to_string(t) + " and " + std::to_string(s) + " have the same vertices";
+  d.facets = {static_cast<long>(t), static_cast<long>(s)};
+  d.vertices = {vertices[0], vertices[1], vertices[2], vertices[3]};
+  return d;
+}
 
 /// Times stages: each call to next() returns the wall, process CPU and calling thread's CPU seconds
 /// since the last (or since construction).

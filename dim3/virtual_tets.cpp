@@ -1086,16 +1086,7 @@ class VirtualTets {
     }
     std::sort(same_vertices.begin(), same_vertices.end());
     same_vertices.erase(std::unique(same_vertices.begin(), same_vertices.end()), same_vertices.end());
-    for (const auto& [t, s] : same_vertices) {
-      const Tet& tet = bg_.tets[t];
-      Defect d;
-      d.kind = DefectKind::DuplicateFacet;
-      d.stage = "background";
-      d.message = "background tets " + std::to_string(t) + " and " + std::to_string(s) + " have the same vertices";
-      d.facets = {static_cast<long>(t), static_cast<long>(s)};
-      d.vertices = {tet[0], tet[1], tet[2], tet[3]};
-      report_.add(std::move(d));
-    }
+    for (const auto& [t, s] : same_vertices) report_.add(same_vertices_defect(t, s, bg_.tets[t]));
     std::sort(shared_by_more.begin(), shared_by_more.end());
     for (std::size_t i = 0; i < shared_by_more.size();) {
       std::size_t j = i + 1;

@@ -591,15 +591,7 @@ class CsgTets {
       if (v1 == v2) {
         // One tet twice: an adjacency's face is the three vertices its two tets share
         // (LocalRegions::face); refused as in dim3/virtual_tets.cpp, once per pair.
-        if (same_vertices.insert({t1, t2}).second) {
-          Defect d;
-          d.kind = DefectKind::DuplicateFacet;
-          d.stage = "background";
-          d.message = "background tets " + std::to_string(t1) + " and " + std::to_string(t2) + " have the same vertices";
-          d.facets = {static_cast<long>(t1), static_cast<long>(t2)};
-          d.vertices = {v1[0], v1[1], v1[2], v1[3]};
-          report_.add(std::move(d));
-        }
+        if (same_vertices.insert({t1, t2}).second) report_.add(same_vertices_defect(t1, t2, bg_.tets[t1]));
         continue;
       }
       const std::vector<FacePart>& a = parts_[4 * t1 + static_cast<std::size_t>(f1)];
