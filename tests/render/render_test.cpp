@@ -460,7 +460,8 @@ TEST(RenderFailure, SlowOrFailingRendererLeavesTheOldPictureAndNoTemporaries) {
   { std::ofstream(slow) << "#!/bin/sh\nexec sleep 20\n"; }
   fs::permissions(slow, fs::perms::owner_all);
   const fs::path failing = dir / "failing-povray.sh";
-  { std::ofstream(failing) << "#!/bin/sh\necho 'Parse Error: broken scene' >&2\nexit 1\n"; }
+  const fs::path runs = dir / "failing-runs.txt";
+  { std::ofstream(failing) << "#!/bin/sh\necho run >> '" << runs.string() << "'\necho 'Parse Error: broken scene' >&2\nexit 1\n"; }
   fs::permissions(failing, fs::perms::owner_all);
   Scene scene;
   scene.parts.push_back(box_part({0, 0, 0}, {1, 1, 1}, palette(0)));
@@ -478,6 +479,14 @@ TEST(RenderFailure, SlowOrFailingRendererLeavesTheOldPictureAndNoTemporaries) {
   status = render_png(scene, png.string(), options);
   EXPECT_FALSE(status.ok());
   EXPECT_NE(status.error.find("Parse Error"), std::string::npos) << status.error;
+  {  // a failure other than the thread start-up timeout is not retried: one run
+    std::ifstream in(runs);
+    std::string line;
+    int count = 0;
+    while (std::getline(in, line)) ++count;
+    EXPECT_EQ(count, 1);
+  }
+  fs::remove(runs);
   // A renderer that "succeeds" without writing a picture.
   options.povray = "/bin/true";
   status = render_png(scene, png.string(), options);
