@@ -4,6 +4,8 @@
 // through the embedding. The same code for 2D curves (triangles) and 3D surfaces (tets).
 #include "app/cli_deform.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -51,8 +53,8 @@ std::vector<double> numbers(const Json& j, std::size_t dimension, const std::str
     return out;
   }
   for (const Json& x : j) {
-    if (!x.is_number()) {
-      error = what + ": expected numbers";
+    if (!x.is_number() || !std::isfinite(x.get<double>())) {
+      error = what + ": expected finite numbers";
       return {};
     }
     out.push_back(x.get<double>());
@@ -152,6 +154,9 @@ HandleFile read_handles(const std::string& path, std::size_t dimension) {
     if (error.empty() && j.contains("ground")) {
       file.ground_normal = numbers(j["ground"].value("normal", Json()), dimension, "ground normal", error);
       file.ground_offset = j["ground"].value("offset", 0.0);
+      if (error.empty() && std::all_of(file.ground_normal.begin(), file.ground_normal.end(), [](double x) { return x == 0.0; }))
+        error = "ground: the normal is the zero vector (it gives the ground's up direction)";
+      if (error.empty() && !std::isfinite(file.ground_offset)) error = "ground: the offset must be a finite number";
     }
   } catch (const std::exception& e) {
     error = std::string("the handle file has a value of the wrong type: ") + e.what();

@@ -74,6 +74,7 @@ TEST_F(HostileInput, HandleFilesSayWhatIsWrongBeforeMeshing) {
       {R"({"handles": [{"vertices": [0]}], "materal": {}})", R"(unknown key "materal")"},
       {R"({"handles": [{"vertices": [0]}], "material": {"young": 3}})", R"(material: unknown key "young")"},
       {R"({"handles": [{"vertices": [0]}], "ground": {"normal": [0, 1], "ofset": 1}})", R"(ground: unknown key "ofset")"},
+      {R"({"handles": [{"vertices": [0]}], "ground": {"normal": [0, 0], "offset": 1}})", "ground: the normal is the zero vector"},
       {R"({"handles": [{"vertices": [0], "fixed": true, "displacement": [1, 0]}]})", "a fixed handle has no displacement"},
       {R"({"handles": [{"vertices": [18446744073709551615]}]})", "vertex 18446744073709551615 is not a mesh vertex"},
   };
