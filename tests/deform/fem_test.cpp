@@ -99,13 +99,7 @@ TYPED_TEST(Fem, MomentumIsConservedWithoutExternalForces) {
 
 TYPED_TEST(Fem, DropOntoTheGroundNeverInverts) {
   constexpr int D = TypeParam::value;
-  std::array<int, D> cells{};
-  std::array<double, D> size{};
-  cells.fill(2);
-  size.fill(0.5);
-  cells[0] = 6;
-  size[0] = 1.5;
-  SimplexMesh<D> mesh = test::box_grid<D>(cells, size);
+  SimplexMesh<D> mesh = test::bar_grid<D>(6, 1.5, 2, 0.5);
   mesh.vertices.col(D - 1).array() += 0.3;  // above the ground at height 0 (last axis up)
   FemOptions options;
   options.material = {.youngs_modulus = 2e3, .poisson_ratio = 0.4, .density = 1.0};
@@ -232,13 +226,7 @@ TYPED_TEST(Fem, ReusedFactorizationGivesTheRefactoredMinimum) {
 // vertices are crossed; the load (a moved end, gravity, the ground) makes every term count.
 TYPED_TEST(Fem, ResultDoesNotDependOnTheThreadCount) {
   constexpr int D = TypeParam::value;
-  std::array<int, D> cells{};
-  std::array<double, D> size{};
-  cells.fill(D == 2 ? 40 : 10);
-  size.fill(1.0);
-  cells[0] = D == 2 ? 80 : 20;
-  size[0] = 2.0;
-  const SimplexMesh<D> mesh = test::box_grid<D>(cells, size);
+  const SimplexMesh<D> mesh = test::bar_grid<D>(D == 2 ? 80 : 20, 2.0, D == 2 ? 40 : 10);
   ASSERT_GT(mesh.element_count(), 4096);
   const std::vector<Eigen::Index> fixed = test::vertices_where<D>(mesh, 0, 0.0, 1e9);  // the end x = 0
   ASSERT_FALSE(fixed.empty());

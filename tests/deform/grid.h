@@ -48,6 +48,18 @@ SimplexMesh<D> box_grid(const std::array<int, D>& cells, const std::array<double
   return mesh;
 }
 
+/// A bar along x: `along` cells over `length`, `across` cells over `width` on the other axes.
+template <int D>
+SimplexMesh<D> bar_grid(int along, double length, int across, double width = 1.0) {
+  std::array<int, D> cells{};
+  std::array<double, D> size{};
+  cells.fill(across);
+  size.fill(width);
+  cells[0] = along;
+  size[0] = length;
+  return box_grid<D>(cells, size);
+}
+
 /// A cube-ish grid with `n` cells per side of length 1.
 template <int D>
 SimplexMesh<D> unit_grid(int n) {

@@ -93,13 +93,7 @@ TYPED_TEST(Weights, BoundedBiharmonicWeightsEqualAnIndependentQpSolution) {
   constexpr int D = TypeParam::value;
   // Handles on one side of a thin box: the unconstrained biharmonic weights overshoot [0, 1] far
   // from them, so bounds are held and released (several active-set rounds).
-  std::array<int, D> cells{};
-  std::array<double, D> size{};
-  cells.fill(D == 2 ? 3 : 2);
-  size.fill(1.0);
-  cells[0] = D == 2 ? 8 : 6;
-  size[0] = 4.0;
-  const SimplexMesh<D> mesh = test::box_grid<D>(cells, size);
+  const SimplexMesh<D> mesh = test::bar_grid<D>(D == 2 ? 8 : 6, 4.0, D == 2 ? 3 : 2);
   std::vector<std::vector<Eigen::Index>> handles(3);
   for (Eigen::Index v = 0; v < mesh.vertex_count(); ++v) {
     const double x = mesh.vertices(v, 0), y = mesh.vertices(v, 1);
@@ -122,13 +116,7 @@ TYPED_TEST(Weights, BoundedBiharmonicWeightsEqualAnIndependentQpSolution) {
 /// or held where it should have been released (a wrong-signed gradient) fails.
 TYPED_TEST(Weights, TwoHandleWeightsSatisfyTheKktConditions) {
   constexpr int D = TypeParam::value;
-  std::array<int, D> cells{};
-  std::array<double, D> size{};
-  cells.fill(D == 2 ? 4 : 3);
-  size.fill(1.0);
-  cells[0] = D == 2 ? 24 : 12;
-  size[0] = 4.0;
-  const SimplexMesh<D> mesh = test::box_grid<D>(cells, size);
+  const SimplexMesh<D> mesh = test::bar_grid<D>(D == 2 ? 24 : 12, 4.0, D == 2 ? 4 : 3);
   // Handle 0 at the corner x = y = 0, handle 1 the vertex x = 1, y = 1: the unconstrained weight
   // of handle 0 undershoots 0 past handle 1, over a region the minimizer holds only in part.
   std::vector<std::vector<Eigen::Index>> handles(2);
@@ -180,16 +168,12 @@ TYPED_TEST(Weights, BadHandlesAreRefused) {
 
 TYPED_TEST(Weights, HeatGeodesicOnABarMatchesTheDistanceToItsEnd) {
   constexpr int D = TypeParam::value;
-  std::array<int, D> cells{};
-  std::array<double, D> size{};
-  cells.fill(D == 2 ? 4 : 3);
-  size.fill(1.0);
-  cells[0] = D == 2 ? 40 : 24;
-  size[0] = 8.0;
-  const SimplexMesh<D> bar = test::box_grid<D>(cells, size);
+  const int along = D == 2 ? 40 : 24;
+  const double length = 8.0;
+  const SimplexMesh<D> bar = test::bar_grid<D>(along, length, D == 2 ? 4 : 3);
   const std::vector<Eigen::Index> sources = test::vertices_where<D>(bar, 0, 0.0, 1e300);  // the x = 0 face
   const Eigen::VectorXd distance = heat_geodesic<D>(bar, sources);
-  const double h = size[0] / cells[0];
+  const double h = length / along;
   double worst = 0.0;
   for (Eigen::Index v = 0; v < bar.vertex_count(); ++v) worst = std::max(worst, std::abs(distance[v] - bar.vertices(v, 0)));
   // Within the discretization: a small multiple of the element size over a bar 8 long.
