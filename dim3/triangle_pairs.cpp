@@ -94,7 +94,13 @@ std::vector<std::array<std::uint32_t, 2>> overlapping_triangle_pairs(const Surfa
     return static_cast<std::size_t>(std::clamp(i, 0.0, static_cast<double>(dims[d] - 1)));
   };
   const std::size_t cells = dims[0] * dims[1] * dims[2];
-  const auto cell_id = [&](std::size_t i, std::size_t j, std::size_t k) { return (i * dims[1] + j) * dims[2] + k; };
+  const auto cell_of = [&](const double* p) { return (index(p[0], 0) * dims[1] + index(p[1], 1)) * dims[2] + index(p[2], 2); };
+  // body(cell) for every cell box `b` meets.
+  const auto for_each_cell = [&](const TriangleBox& b, const auto& body) {
+    for (std::size_t i = index(b.lo[0], 0); i <= index(b.hi[0], 0); ++i)
+      for (std::size_t j = index(b.lo[1], 1); j <= index(b.hi[1], 1); ++j)
+        for (std::size_t k = index(b.lo[2], 2); k <= index(b.hi[2], 2); ++k) body((i * dims[1] + j) * dims[2] + k);
+  };
   // Cells per triangle; a few very large triangles over many cells are fine, many are not: then
   // CGAL's segment tree, which does not depend on the sizes.
   std::vector<std::uint32_t> cell_first(cells + 1, 0);
@@ -105,10 +111,7 @@ std::vector<std::array<std::uint32_t, 2>> overlapping_triangle_pairs(const Surfa
     listed += count;
     if (listed > 32 * n + 1024) return pairs_by_box_intersection(boxes);
   }
-  for (const TriangleBox& b : boxes)
-    for (std::size_t i = index(b.lo[0], 0); i <= index(b.hi[0], 0); ++i)
-      for (std::size_t j = index(b.lo[1], 1); j <= index(b.hi[1], 1); ++j)
-        for (std::size_t k = index(b.lo[2], 2); k <= index(b.hi[2], 2); ++k) ++cell_first[cell_id(i, j, k) + 1];
+  for (const TriangleBox& b : boxes) for_each_cell(b, [&](std::size_t c) { ++cell_first[c + 1]; });
   // The scan below tests every pair of boxes sharing a cell: about the sum over cells of the
   // square of their box counts. Clustered or elongated inputs (a fine cluster beside one large
   // triangle, long slivers along one axis) crowd most boxes into a few cells and would make it
@@ -118,12 +121,7 @@ std::vector<std::array<std::uint32_t, 2>> overlapping_triangle_pairs(const Surfa
   if (tests > 256.0 * static_cast<double>(n) + 1e6) return pairs_by_box_intersection(boxes);
   for (std::size_t c = 0; c < cells; ++c) cell_first[c + 1] += cell_first[c];
   std::vector<std::uint32_t> cell_triangles(listed), next(cell_first.begin(), cell_first.end() - 1);
-  for (std::uint32_t t = 0; t < n; ++t) {
-    const TriangleBox& b = boxes[t];
-    for (std::size_t i = index(b.lo[0], 0); i <= index(b.hi[0], 0); ++i)
-      for (std::size_t j = index(b.lo[1], 1); j <= index(b.hi[1], 1); ++j)
-        for (std::size_t k = index(b.lo[2], 2); k <= index(b.hi[2], 2); ++k) cell_triangles[next[cell_id(i, j, k)]++] = t;
-  }
+  for (std::uint32_t t = 0; t < n; ++t) for_each_cell(boxes[t], [&](std::size_t c) { cell_triangles[next[c]++] = t; });
   // Per block of consecutive triangles a, the pairs (a, b > a) sorted: concatenated in block
   // order they are the sorted list.
   constexpr std::size_t kBlock = 1024;
@@ -134,20 +132,16 @@ std::vector<std::array<std::uint32_t, 2>> overlapping_triangle_pairs(const Surfa
     for (std::size_t a = block * kBlock; a < std::min(n, (block + 1) * kBlock); ++a) {
       const TriangleBox& ba = boxes[a];
       const std::size_t first = out.size();
-      for (std::size_t i = index(ba.lo[0], 0); i <= index(ba.hi[0], 0); ++i)
-        for (std::size_t j = index(ba.lo[1], 1); j <= index(ba.hi[1], 1); ++j)
-          for (std::size_t k = index(ba.lo[2], 2); k <= index(ba.hi[2], 2); ++k) {
-            const std::size_t c = cell_id(i, j, k);
-            for (std::uint32_t x = cell_first[c]; x < cell_first[c + 1]; ++x) {
-              const std::uint32_t b = cell_triangles[x];
-              if (b <= a || !overlap(ba, boxes[b])) continue;
-              const TriangleBox& bb = boxes[b];
-              if (index(std::max(ba.lo[0], bb.lo[0]), 0) != i || index(std::max(ba.lo[1], bb.lo[1]), 1) != j ||
-                  index(std::max(ba.lo[2], bb.lo[2]), 2) != k)
-                continue;  // reported from another cell
-              out.push_back({static_cast<std::uint32_t>(a), b});
-            }
-          }
+      for_each_cell(ba, [&](std::size_t c) {
+        for (std::uint32_t x = cell_first[c]; x < cell_first[c + 1]; ++x) {
+          const std::uint32_t b = cell_triangles[x];
+          if (b <= a || !overlap(ba, boxes[b])) continue;
+          const TriangleBox& bb = boxes[b];
+          const double corner[3] = {std::max(ba.lo[0], bb.lo[0]), std::max(ba.lo[1], bb.lo[1]), std::max(ba.lo[2], bb.lo[2])};
+          if (cell_of(corner) != c) continue;  // reported from the cell holding the corner
+          out.push_back({static_cast<std::uint32_t>(a), b});
+        }
+      });
       std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
     }
   }, 1);
