@@ -699,7 +699,11 @@ class Refiner {
       e.lines[e.count++] = line;
     }
     /// The projected point of `id`, as the triangulation holds it (the same lazy handle).
-    void set_point(std::uint32_t id, const EK::Point_2& p) { entry(id).point = p; }
+    void set_point(std::uint32_t id, const EK::Point_2& p) {
+      Entry& e = entry(id);
+      e.point = p;
+      e.placed = true;
+    }
 
     /// True when p, q and r (handles given to set_point) lie on one known line.
     [[nodiscard]] bool collinear(const EK::Point_2& p, const EK::Point_2& q, const EK::Point_2& r) const {
@@ -716,7 +720,8 @@ class Refiner {
    private:
     struct Entry {
       std::uint32_t id = 0;
-      EK::Point_2 point;
+      EK::Point_2 point;    // a default handle (shared by every default point) until placed
+      bool placed = false;
       std::array<std::uint64_t, 4> lines{};
       std::uint8_t count = 0;
     };
@@ -729,7 +734,7 @@ class Refiner {
     }
     const Entry* find(const EK::Point_2& p) const {
       for (const Entry& e : entries_)
-        if (static_cast<const CGAL::Handle&>(e.point).identical(p)) return &e;  // the same lazy point
+        if (e.placed && static_cast<const CGAL::Handle&>(e.point).identical(p)) return &e;  // the same lazy point
       return nullptr;
     }
     std::vector<Entry> entries_;  // a cut triangle has a few dozen points at most: a linear scan
