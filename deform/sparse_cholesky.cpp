@@ -26,32 +26,23 @@ namespace {
 class SerialOpenMp {
  public:
   SerialOpenMp() {
-    const std::lock_guard<std::mutex> lock(mutex());
-    if (depth()++ == 0) {
-      saved() = omp_get_max_active_levels();
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (depth_++ == 0) {
+      saved_ = omp_get_max_active_levels();
       omp_set_max_active_levels(0);
     }
   }
   ~SerialOpenMp() {
-    const std::lock_guard<std::mutex> lock(mutex());
-    if (--depth() == 0) omp_set_max_active_levels(saved());
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (--depth_ == 0) omp_set_max_active_levels(saved_);
   }
   SerialOpenMp(const SerialOpenMp&) = delete;
   SerialOpenMp& operator=(const SerialOpenMp&) = delete;
 
  private:
-  static std::mutex& mutex() {
-    static std::mutex m;
-    return m;
-  }
-  static int& depth() {
-    static int d = 0;
-    return d;
-  }
-  static int& saved() {
-    static int s = 0;
-    return s;
-  }
+  static inline std::mutex mutex_;
+  static inline int depth_ = 0;  ///< CHOLMOD calls running (on any thread)
+  static inline int saved_ = 0;  ///< the setting before the first of them
 };
 
 }  // namespace
@@ -63,6 +54,12 @@ class CholmodFactor : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<dou
 };
 
 struct SparseCholesky::Impl {
+  /// A factor for `use`: CHOLMOD's simplicial or supernodal mode, silent (a refused matrix is
+  /// reported by the return value, not on stderr).
+  explicit Impl(FactorUse use) {
+    factor.cholmod().print = 0;
+    factor.setMode(use == FactorUse::solve_often ? Eigen::CholmodSimplicialLLt : Eigen::CholmodSupernodalLLt);
+  }
   CholmodFactor factor;
   /// Non-empty: the factor is of P a P^T (the caller's ordering), solves permute around it.
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> given;
@@ -70,22 +67,18 @@ struct SparseCholesky::Impl {
 };
 
 bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse use) {
-  impl_ = std::make_unique<Impl>();
-  impl_->factor.cholmod().print = 0;  // a refused matrix is reported by the return value, not on stderr
-  impl_->factor.setMode(use == FactorUse::solve_often ? Eigen::CholmodSimplicialLLt : Eigen::CholmodSupernodalLLt);
+  impl_ = std::make_unique<Impl>(use);
   const SerialOpenMp serial;
   impl_->factor.compute(a);
   return impl_->factor.info() == Eigen::Success;
 }
 
 bool SparseCholesky::compute(const Eigen::SparseMatrix<double>& a, FactorUse use, const std::vector<Eigen::Index>& ordering) {
-  impl_ = std::make_unique<Impl>();
-  impl_->factor.cholmod().print = 0;
+  impl_ = std::make_unique<Impl>(use);
   // The natural ordering of the permuted matrix, no search. CHOLMOD still postorders its
   // elimination tree (a permutation that changes no fill, for the supernodes).
   impl_->factor.cholmod().nmethods = 1;
   impl_->factor.cholmod().method[0].ordering = CHOLMOD_NATURAL;
-  impl_->factor.setMode(use == FactorUse::solve_often ? Eigen::CholmodSimplicialLLt : Eigen::CholmodSupernodalLLt);
   impl_->given.resize(static_cast<Eigen::Index>(ordering.size()));
   for (std::size_t i = 0; i < ordering.size(); ++i) impl_->given.indices()[ordering[i]] = static_cast<int>(i);
   impl_->given_order = ordering;
@@ -115,9 +108,7 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
 }
 
 void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& pattern, FactorUse use) {
-  impl_ = std::make_unique<Impl>();
-  impl_->factor.cholmod().print = 0;
-  impl_->factor.setMode(use == FactorUse::solve_often ? Eigen::CholmodSimplicialLLt : Eigen::CholmodSupernodalLLt);
+  impl_ = std::make_unique<Impl>(use);
   const SerialOpenMp serial;
   impl_->factor.analyzePattern(pattern);
 }
