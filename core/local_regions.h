@@ -9,8 +9,9 @@
 //  - a fusion joins two local regions of one element on the two sides of a piece of a patch
 //    inside it (the two are one element copy wherever the immersion glues across the patch);
 //  - an adjacency joins local regions of two elements sharing a face (D vertices; not stored,
-//    it follows from the two elements) whose parts of the face meet along a positive measure; with an invalid patch the contact is free of the
-//    input (both lie in one region), otherwise it lies on the patch, `first` on its inner side.
+//    it follows from the two elements) whose parts of the face meet along a positive measure;
+//    with an invalid patch the contact is free of the input (both lie in one region), otherwise
+//    it lies on the patch, `first` on its inner side.
 // Regions of local regions that no input piece bounds follow from the input-free adjacencies
 // (union-find) and, for a component with no known member, one exact point location.
 //
