@@ -1,15 +1,20 @@
 // A small std::thread loop for the independent per-element work of the meshing step (paper §7.1:
-// every background element's local regions are computed on their own). TBB is not a dependency
-// of this project, so the loop is written out once here and shared by the exact clipping and the
-// CSG baseline, which must run on the same number of threads to be compared fairly.
+// every background element's local regions are computed on their own) and of the deformation
+// solvers. TBB is not a dependency of this project, so the loop is written out once here and
+// shared by the exact clipping and the CSG baseline, which must run on the same number of
+// threads to be compared fairly.
 #pragma once
 
 #include <time.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cfenv>
+#include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -35,43 +40,147 @@ inline double process_cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
+/// CPU seconds the calling thread has spent so far as worker 0 of loops run on several threads
+/// (parallel_for): thread_cpu_seconds() minus this is its serial work, outside those loops (the
+/// serial fraction of BENCHMARKS.md's thread-scaling model).
+inline double& loop_cpu_seconds() {
+  thread_local double seconds = 0.0;
+  return seconds;
+}
+
 /// The thread count to use for a request of `threads` (0 = one per hardware thread).
 inline unsigned resolve_threads(unsigned threads) {
   return threads != 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
 }
 
+namespace detail {
+
+/// The threads parallel_for runs on, started on first use and kept for the life of the process.
+/// A meshing run makes hundreds of loops (454 on two tori at 2.5 M tets): a thread started per
+/// loop cost its start-up, a cold cache and a fresh malloc cache every time (BENCHMARKS.md,
+/// "Thread pool"). One loop runs at a time; the calling thread takes part as worker 0.
+class WorkerPool {
+ public:
+  using Task = void (*)(void* context, unsigned worker);
+
+  /// The process's pool. Never destroyed: its threads sleep until the process ends, so no exit
+  /// path (std::exit from any thread, a Python interpreter shutting down) waits on them.
+  static WorkerPool& instance() {
+    static WorkerPool* pool = new WorkerPool;
+    return *pool;
+  }
+
+  /// True on a thread running a task of the pool (the calling thread included): a loop started
+  /// there runs inline, as the pool is busy with the loop around it.
+  static bool& inside() {
+    thread_local bool flag = false;
+    return flag;
+  }
+
+  /// Runs task(context, w) for every w in [0, workers), w = 0 on the calling thread and the
+  /// others on the pool's threads (started when fewer are running), all in the calling thread's
+  /// floating-point environment (rounding mode), and returns when all have returned. The task must not throw. Returns false, having run nothing, when another thread
+  /// is running a loop on the pool.
+  bool try_run(unsigned workers, Task task, void* context) {
+    std::unique_lock<std::mutex> caller(run_mutex_, std::try_to_lock);
+    if (!caller.owns_lock()) return false;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      while (threads_.size() + 1 < workers) {
+        const auto id = static_cast<unsigned>(threads_.size() + 1);
+        threads_.emplace_back([this, id] { serve(id); });
+      }
+      task_ = task;
+      context_ = context;
+      std::fegetenv(&environment_);
+      participants_ = workers;
+      pending_ = workers - 1;
+      ++generation_;
+    }
+    wake_.notify_all();
+    inside() = true;
+    task(context, 0);
+    inside() = false;
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [&] { return pending_ == 0; });
+    return true;
+  }
+
+ private:
+  WorkerPool() = default;
+
+  void serve(unsigned id) {
+    inside() = true;
+    std::uint64_t seen = 0;
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [&] { return generation_ != seen; });
+      seen = generation_;
+      if (id >= participants_) continue;  // not needed by this loop
+      const Task task = task_;
+      void* const context = context_;
+      std::fesetenv(&environment_);
+      lock.unlock();
+      task(context, id);
+      lock.lock();
+      if (--pending_ == 0) done_.notify_one();
+    }
+  }
+
+  std::mutex run_mutex_;  ///< held by the thread whose loop runs on the pool
+  std::mutex mutex_;      ///< guards everything below
+  std::condition_variable wake_, done_;
+  std::vector<std::thread> threads_;  ///< thread k - 1 is worker k
+  std::uint64_t generation_ = 0;      ///< loops started so far
+  Task task_ = nullptr;
+  void* context_ = nullptr;
+  std::fenv_t environment_{};  ///< the calling thread's, set on the pool's threads for the task
+  unsigned participants_ = 0;  ///< workers of the current loop, the calling thread included
+  unsigned pending_ = 0;       ///< pool threads of the current loop still running it
+};
+
+}  // namespace detail
+
 /// Runs body(i, worker) for every i in [0, count) on at most `threads` threads, `worker` the
-/// index of the thread running it (below the number of workers started). Scheduling is dynamic: workers take min(grain, 16) consecutive indices at a time,
-/// so unevenly expensive items balance. With one worker the items run in order on the calling
-/// thread. An exception thrown by a body stops the loop and is rethrown here (when several
-/// workers throw, the lowest-numbered worker's; callers that need the first item's error in
-/// item order catch inside the body, as the meshing loops do).
+/// index of the thread running it (below the number of workers used; 0 is the calling thread).
+/// Scheduling is dynamic: workers take min(grain, 16) consecutive indices at a time, so unevenly
+/// expensive items balance. With one worker the items run in order on the calling thread, as do
+/// loops started inside a body (nested loops do not multiply the threads). The threads are the
+/// process's pool (detail::WorkerPool); a loop started while another thread's loop holds the pool
+/// runs on threads of its own. An exception thrown by a body stops the loop and is rethrown here
+/// (when several workers throw, the lowest-numbered worker's; callers that need the first item's
+/// error in item order catch inside the body, as the meshing loops do).
 /// @param grain the fewest items worth a thread of their own.
 template <class Body>
 void parallel_for(unsigned threads, std::size_t count, const Body& body, std::size_t grain = 64) {
   grain = std::max<std::size_t>(grain, 1);
   const std::size_t step = std::min<std::size_t>(grain, 16);
   const auto workers = static_cast<unsigned>(std::min<std::size_t>(std::max(threads, 1u), (count + grain - 1) / grain));
-  if (workers <= 1) {
+  if (workers <= 1 || detail::WorkerPool::inside()) {
     for (std::size_t i = 0; i < count; ++i) body(i, 0u);
     return;
   }
   std::atomic<std::size_t> next{0};
   std::vector<std::exception_ptr> errors(workers);
-  std::vector<std::thread> pool;
-  pool.reserve(workers);
-  for (unsigned w = 0; w < workers; ++w) {
-    pool.emplace_back([&, w] {
-      try {
-        for (std::size_t i; (i = next.fetch_add(step)) < count;)
-          for (std::size_t j = i; j < std::min(count, i + step); ++j) body(j, w);
-      } catch (...) {
-        errors[w] = std::current_exception();
-        next = count;
-      }
-    });
+  const auto work = [&](unsigned w) {
+    try {
+      for (std::size_t i; (i = next.fetch_add(step)) < count;)
+        for (std::size_t j = i; j < std::min(count, i + step); ++j) body(j, w);
+    } catch (...) {
+      errors[w] = std::current_exception();
+      next = count;
+    }
+  };
+  using Work = decltype(work);
+  const detail::WorkerPool::Task task = [](void* context, unsigned w) { (*static_cast<const Work*>(context))(w); };
+  const double start = thread_cpu_seconds();
+  if (!detail::WorkerPool::instance().try_run(workers, task, const_cast<void*>(static_cast<const void*>(&work)))) {
+    std::vector<std::thread> own;
+    own.reserve(workers);
+    for (unsigned w = 0; w < workers; ++w) own.emplace_back(work, w);
+    for (std::thread& th : own) th.join();
   }
-  for (std::thread& th : pool) th.join();
+  loop_cpu_seconds() += thread_cpu_seconds() - start;
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
 }

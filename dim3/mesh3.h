@@ -51,8 +51,8 @@ struct MeshOptions {
 using EmbeddedVertex3 = imm::EmbeddedVertex<3>;
 
 /// Wall and process CPU seconds (summed over threads) of one stage, and the CPU seconds of the
-/// calling thread: the stage's serial part when it ran on two threads or more (the parallel
-/// loops run on worker threads while the caller waits), so Amdahl's model follows from one run.
+/// calling thread outside its parallel loops (core/parallel.h, loop_cpu_seconds): the stage's
+/// serial part when it ran on two threads or more, so Amdahl's model follows from one run.
 struct StageSeconds {
   double wall = 0.0;
   double cpu = 0.0;

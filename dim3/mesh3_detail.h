@@ -18,6 +18,7 @@
 
 #include "core/diagnostics.h"
 #include "core/ids.h"
+#include "core/parallel.h"
 #include "core/immersion_graph.h"
 #include "core/local_regions.h"
 #include "core/unglue.h"
@@ -75,10 +76,10 @@ inline Defect same_vertices_defect(std::uint32_t t, std::uint32_t s, const Tet& 
 /// since the last (or since construction).
 class StageClock {
  public:
-  StageClock() : wall_(std::chrono::steady_clock::now()), cpu_(cpu(CLOCK_PROCESS_CPUTIME_ID)), serial_(cpu(CLOCK_THREAD_CPUTIME_ID)) {}
+  StageClock() : wall_(std::chrono::steady_clock::now()), cpu_(cpu(CLOCK_PROCESS_CPUTIME_ID)), serial_(serial()) {}
   StageSeconds next() {
     const auto wall = std::chrono::steady_clock::now();
-    const double process = cpu(CLOCK_PROCESS_CPUTIME_ID), thread = cpu(CLOCK_THREAD_CPUTIME_ID);
+    const double process = cpu(CLOCK_PROCESS_CPUTIME_ID), thread = serial();
     const StageSeconds s{std::chrono::duration<double>(wall - wall_).count(), process - cpu_, thread - serial_};
     wall_ = wall;
     cpu_ = process;
@@ -87,6 +88,8 @@ class StageClock {
   }
 
  private:
+  /// The calling thread's CPU outside parallel loops (inside them it is one of the workers).
+  static double serial() { return cpu(CLOCK_THREAD_CPUTIME_ID) - loop_cpu_seconds(); }
   static double cpu(clockid_t clock) {
     timespec ts{};
     clock_gettime(clock, &ts);

@@ -1,0 +1,128 @@
+// core/parallel.h: parallel_for on the process's thread pool. Every index runs once, the caller
+// is worker 0, the pool's threads are kept between loops, nested loops run inline, errors come
+// back to the caller, loops from two outside threads both finish, and bodies run in the caller's
+// rounding mode.
+#include "core/parallel.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cfenv>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace imm {
+namespace {
+
+/// The threads (and their worker numbers) that ran a loop of `count` items on `threads` threads.
+struct LoopRun {
+  std::vector<int> visits;
+  std::set<std::thread::id> ids;
+  std::set<unsigned> workers;
+  std::thread::id worker0;
+};
+
+LoopRun run(unsigned threads, std::size_t count, std::size_t grain = 1) {
+  LoopRun r;
+  r.visits.assign(count, 0);
+  std::mutex mutex;
+  parallel_for(threads, count, [&](std::size_t i, unsigned worker) {
+    std::atomic_ref<int>(r.visits[i]).fetch_add(1);
+    // Enough work per item for every worker to take some.
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    const std::lock_guard<std::mutex> lock(mutex);
+    r.ids.insert(std::this_thread::get_id());
+    r.workers.insert(worker);
+    if (worker == 0) r.worker0 = std::this_thread::get_id();
+  }, grain);
+  return r;
+}
+
+TEST(ParallelFor, EveryIndexRunsOnceOnEveryThreadCount) {
+  for (unsigned threads : {1u, 2u, 3u, 8u}) {
+    for (std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{7}, std::size_t{100}}) {
+      const LoopRun r = run(threads, count);
+      for (std::size_t i = 0; i < count; ++i) EXPECT_EQ(r.visits[i], 1) << threads << " threads, item " << i;
+      for (unsigned w : r.workers) EXPECT_LT(w, threads);
+      EXPECT_LE(r.ids.size(), std::min<std::size_t>(threads, std::max<std::size_t>(count, 1)));
+    }
+  }
+}
+
+TEST(ParallelFor, TheCallerIsWorkerZeroAndThePoolsThreadsAreKept) {
+  const LoopRun first = run(3, 300);
+  ASSERT_EQ(first.ids.size(), 3u);  // 300 sleeping items: every worker takes some
+  EXPECT_EQ(first.worker0, std::this_thread::get_id());
+  const LoopRun second = run(3, 300);
+  EXPECT_EQ(second.ids, first.ids) << "a loop started threads of its own instead of the pool's";
+  const LoopRun two = run(2, 300);
+  EXPECT_EQ(two.ids.size(), 2u);
+  for (const std::thread::id& id : two.ids) EXPECT_EQ(first.ids.count(id), 1u);
+}
+
+TEST(ParallelFor, ANestedLoopRunsInlineOnItsWorker) {
+  std::vector<int> inner_on_own_thread(8, 0);
+  parallel_for(2, 8, [&](std::size_t i, unsigned) {
+    const std::thread::id outer = std::this_thread::get_id();
+    bool same = true, worker_zero = true;
+    parallel_for(4, 64, [&](std::size_t, unsigned worker) {
+      same = same && std::this_thread::get_id() == outer;
+      worker_zero = worker_zero && worker == 0;
+    }, 1);
+    inner_on_own_thread[i] = same && worker_zero;
+  }, 1);
+  for (int ok : inner_on_own_thread) EXPECT_EQ(ok, 1);
+}
+
+TEST(ParallelFor, AnErrorReachesTheCallerAndThePoolStaysUsable) {
+  EXPECT_THROW(parallel_for(2, 1000, [](std::size_t i, unsigned) {
+    if (i == 500) throw std::runtime_error("item 500");
+  }, 1), std::runtime_error);
+  const LoopRun after = run(2, 100);
+  for (int v : after.visits) EXPECT_EQ(v, 1);
+}
+
+TEST(ParallelFor, LoopsFromTwoOutsideThreadsBothFinish) {
+  std::vector<LoopRun> runs(2);
+  std::thread a([&] { runs[0] = run(2, 400); });
+  std::thread b([&] { runs[1] = run(2, 400); });
+  a.join();
+  b.join();
+  for (const LoopRun& r : runs)
+    for (int v : r.visits) EXPECT_EQ(v, 1);
+}
+
+TEST(ParallelFor, BodiesRunInTheCallersRoundingMode) {
+  const auto modes = [](unsigned threads) {
+    std::vector<int> mode(64, -1);
+    parallel_for(threads, mode.size(), [&](std::size_t i, unsigned) {
+      mode[i] = std::fegetround();
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
+    }, 1);
+    return std::set<int>(mode.begin(), mode.end());
+  };
+  const int saved = std::fegetround();
+  ASSERT_EQ(std::fesetround(FE_UPWARD), 0);
+  const std::set<int> upward = modes(2);
+  std::fesetround(saved);
+  EXPECT_EQ(upward, std::set<int>{FE_UPWARD});
+  EXPECT_EQ(modes(2), std::set<int>{saved}) << "a pool thread kept an earlier caller's rounding mode";
+}
+
+TEST(ParallelFor, LoopCpuCountsOnlyLoopsOnSeveralThreads) {
+  const auto spin = [](std::size_t, unsigned) {
+    volatile double x = 0;
+    for (int k = 0; k < 200000; ++k) x = x + 1.0;
+  };
+  const double before = loop_cpu_seconds();
+  parallel_for(1, 20, spin, 1);
+  EXPECT_EQ(loop_cpu_seconds(), before);  // one worker: the caller's own (serial) work
+  parallel_for(2, 20, spin, 1);
+  EXPECT_GT(loop_cpu_seconds(), before);
+}
+
+}  // namespace
+}  // namespace imm
