@@ -213,7 +213,7 @@ class VirtualTets {
       const std::size_t count = std::min(kBlock, candidate_tets.size() - first);
       const auto run_tet = [&](std::size_t i, unsigned worker) {
         const std::uint32_t t = candidate_tets[first + i];
-        block[i] = TetOut();
+        block[i].clear();
         if (interval_filter_) {
           try {
             const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
@@ -222,7 +222,7 @@ class VirtualTets {
           } catch (const CGAL::Uncertain_conversion_exception&) {
           }
         }
-        block[i] = TetOut();
+        block[i].clear();
         ++exact_tets;
         const double exact_start = thread_cpu_seconds();
         process_tet<EK>(t, cand_first_[t], cand_first_[t + 1], block[i], scratch[worker]);
@@ -340,11 +340,17 @@ class VirtualTets {
       std::vector<CGAL::Bbox_3> slice_box(tet_slices);
       std::vector<double> slice_extent(tet_slices, 0.0);
       parallel_for(threads_, tet_slices, [&](std::size_t slice, unsigned) {
+        // Summed in locals, stored once: neighbouring slices' sums share a cache line, and
+        // writing them per tet made this loop 2-3x slower on two threads (false sharing).
+        CGAL::Bbox_3 box;
+        double sum = 0.0;
         for (std::size_t t = tet_count * slice / tet_slices; t < tet_count * (slice + 1) / tet_slices; ++t) {
           const CGAL::Bbox_3 b = tet_box(t);
-          slice_box[slice] += b;
-          slice_extent[slice] += std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
+          box += b;
+          sum += std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
         }
+        slice_box[slice] = box;
+        slice_extent[slice] = sum;
       }, /*grain=*/1);
       for (std::size_t k = 0; k < tet_slices; ++k) {
         all += slice_box[k];
@@ -415,9 +421,13 @@ class VirtualTets {
       }, /*grain=*/1);
     }
     std::vector<std::uint32_t>().swap(tet_cell);
-    const std::size_t slices = std::min<std::size_t>(threads_, 1 + m_.triangles.size() / 4096);
+    // Slices of ~4096 triangles taken dynamically (halves per thread left one thread idle where
+    // the surface is unevenly cut); each slice's pairs are collected in a local vector (the
+    // slices' vector headers share cache lines).
+    const std::size_t slices = 1 + m_.triangles.size() / 4096;
     std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(slices);
     parallel_for(threads_, slices, [&](std::size_t slice, unsigned) {
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
       const std::size_t begin = m_.triangles.size() * slice / slices;
       const std::size_t end = m_.triangles.size() * (slice + 1) / slices;
       for (auto x = static_cast<std::uint32_t>(begin); x < end; ++x) {
@@ -452,10 +462,11 @@ class VirtualTets {
               const std::size_t c = cell_id(i, j, k);
               for (std::uint32_t n = cell_first[c]; n < cell_first[c + 1]; ++n) {
                 const std::uint32_t t = cell_tets[n];
-                if (CGAL::do_overlap(b, tet_box(t)) && plane_side(t) == 0) found[slice].emplace_back(t, x);
+                if (CGAL::do_overlap(b, tet_box(t)) && plane_side(t) == 0) pairs.emplace_back(t, x);
               }
             }
       }
+      found[slice] = std::move(pairs);
     }, /*grain=*/1);
     // Sorted by (tet, triangle): a counting sort by tet (atomic counters, on all threads: the
     // order inside a tet varies), then each tet's few triangles sorted, on all threads.
@@ -622,6 +633,22 @@ class VirtualTets {
     std::size_t polygons = 0, pieces = 0, side_tests = 0;
     std::optional<Defect> defect;  ///< a non-generic contact
     std::exception_ptr error;      ///< thrown while processing the tet; rethrown in tet order
+
+    /// Empty again for the next tet, keeping the arrays' storage: a block's slots are reused by
+    /// whichever thread takes them next, and freeing storage another thread's allocator owns
+    /// cost ~10 % of the clipping's CPU on two threads (BENCHMARKS.md, "Thread pool").
+    void clear() {
+      regions.clear();
+      fusions.clear();
+      traces.clear();
+      embedded.clear();
+      vertices.clear();
+      triangles.clear();
+      face_lr = {kNone, kNone, kNone, kNone};
+      polygons = pieces = side_tests = 0;
+      defect.reset();
+      error = nullptr;
+    }
   };
 
   template <class K>
