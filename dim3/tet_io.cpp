@@ -647,12 +647,14 @@ void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
   mesh.reference.reserve(raw.tets.size());
   for (std::size_t t = 0; t < raw.tets.size(); ++t) {
     const auto& tet = raw.tets[t];
-    const std::string where = at(raw.tet_file, raw.tet_line[t]) + "tet " + std::to_string(t);
+    // Messages are only made for a defect: most tets have none, and formatting them was most
+    // of the read's time.
+    const auto where = [&] { return at(raw.tet_file, raw.tet_line[t]) + "tet " + std::to_string(t); };
     bool in_range = true;
     for (long long v : tet) {
       if (v >= 0 && v < n) continue;
       defects.add(DefectKind::OutOfRange,
-                  where + " refers to vertex " + std::to_string(v + raw.index_base) +
+                  where() + " refers to vertex " + std::to_string(v + raw.index_base) +
                       " (as numbered in the file), but the file has " + std::to_string(n) +
                       " vertices, numbered " + std::to_string(raw.index_base) + ".." +
                       std::to_string(n - 1 + raw.index_base),
@@ -673,15 +675,15 @@ void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
         s += (k ? ", " : "") + std::to_string(tet[k]) + " " + format_point(*p[k]);
       return s;
     };
-    std::vector<long> vertex_ids(tet.begin(), tet.end());
-    std::vector<std::vector<double>> points;
-    for (int k = 0; k < 4; ++k) points.push_back(coordinates(*p[k]));
     auto point = [&](int k) { return Kernel::Point_3((*p[k])[0], (*p[k])[1], (*p[k])[2]); };
     const CGAL::Orientation orientation = CGAL::orientation(point(0), point(1), point(2), point(3));
     if (orientation == CGAL::COPLANAR) {
+      std::vector<long> vertex_ids(tet.begin(), tet.end());
+      std::vector<std::vector<double>> points;
+      for (int k = 0; k < 4; ++k) points.push_back(coordinates(*p[k]));
       const bool repeated = std::set<long long>(tet.begin(), tet.end()).size() < 4;
       defects.add(DefectKind::DegenerateFacet,
-                  where + " has zero volume (" +
+                  where() + " has zero volume (" +
                       (repeated ? "a repeated vertex" : "four coplanar corners") + "): vertices " +
                       corners() + base_note,
                   {static_cast<long>(t)}, std::move(vertex_ids), std::move(points));
