@@ -210,11 +210,13 @@ class Refiner {
     const std::size_t blocks = (candidates.size() + kBlock - 1) / kBlock;
     std::vector<std::vector<std::pair<std::uint32_t, PairResult>>> found(blocks);  // non-empty results only
     parallel_for(threads_, blocks, [&](std::size_t block, unsigned) {
+      std::vector<std::pair<std::uint32_t, PairResult>> results;  // local: blocks' headers share cache lines
       for (std::size_t i = block * kBlock; i < std::min(candidates.size(), (block + 1) * kBlock); ++i) {
         PairResult r;
         classify(candidates[i][0], candidates[i][1], r);
-        if (!r.empty()) found[block].emplace_back(static_cast<std::uint32_t>(i), std::move(r));
+        if (!r.empty()) results.emplace_back(static_cast<std::uint32_t>(i), std::move(r));
       }
+      found[block] = std::move(results);
     }, 1);
     for (auto& list : found)
       for (auto& [i, r] : list) apply(candidates[i][0], candidates[i][1], r);

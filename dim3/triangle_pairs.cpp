@@ -128,7 +128,8 @@ std::vector<std::array<std::uint32_t, 2>> overlapping_triangle_pairs(const Surfa
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::vector<std::array<std::uint32_t, 2>>> found(blocks);
   parallel_for(threads, blocks, [&](std::size_t block, unsigned) {
-    std::vector<std::array<std::uint32_t, 2>>& out = found[block];
+    // Collected in a local vector: neighbouring blocks' vector headers share a cache line.
+    std::vector<std::array<std::uint32_t, 2>> out;
     for (std::size_t a = block * kBlock; a < std::min(n, (block + 1) * kBlock); ++a) {
       const TriangleBox& ba = boxes[a];
       const std::size_t first = out.size();
@@ -144,6 +145,7 @@ std::vector<std::array<std::uint32_t, 2>> overlapping_triangle_pairs(const Surfa
       });
       std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
     }
+    found[block] = std::move(out);
   }, 1);
   std::size_t total = 0;
   for (const auto& list : found) total += list.size();

@@ -204,8 +204,14 @@ class VirtualTets {
     // that the result does not depend on the thread count.
     constexpr std::size_t kBlock = 4096;
     std::vector<TetOut> block(std::min(kBlock, candidate_tets.size()));
-    std::vector<std::vector<PolygonT<IK>>> interval_scratch(threads_);
-    std::vector<std::vector<Polygon>> scratch(threads_);
+    // Each worker's polygons, a cache line of their own: the vectors' headers are read and
+    // written for every polygon, and two workers' headers on one line cost ~10 % of the
+    // clipping's CPU on two threads (false sharing; BENCHMARKS.md, "Thread pool").
+    struct alignas(64) WorkerPolygons {
+      std::vector<PolygonT<IK>> interval;
+      std::vector<Polygon> exact;
+    };
+    std::vector<WorkerPolygons> scratch(threads_);
     std::atomic<std::size_t> exact_tets{0};
     std::vector<double> exact_seconds(threads_, 0.0);  // per worker
     std::uint32_t next_tet = 0;  // tets before it are merged
@@ -217,7 +223,7 @@ class VirtualTets {
         if (interval_filter_) {
           try {
             const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
-            process_tet<IK>(t, cand_first_[t], cand_first_[t + 1], block[i], interval_scratch[worker]);
+            process_tet<IK>(t, cand_first_[t], cand_first_[t + 1], block[i], scratch[worker].interval);
             return;
           } catch (const CGAL::Uncertain_conversion_exception&) {
           }
@@ -225,7 +231,7 @@ class VirtualTets {
         block[i].clear();
         ++exact_tets;
         const double exact_start = thread_cpu_seconds();
-        process_tet<EK>(t, cand_first_[t], cand_first_[t + 1], block[i], scratch[worker]);
+        process_tet<EK>(t, cand_first_[t], cand_first_[t + 1], block[i], scratch[worker].exact);
         exact_seconds[worker] += thread_cpu_seconds() - exact_start;
       };
       parallel_for(threads_, count, [&](std::size_t i, unsigned worker) {
@@ -240,6 +246,19 @@ class VirtualTets {
       std::size_t stop = 0;
       while (stop < count && !block[stop].defect && !block[stop].error) ++stop;
       merge_block(candidate_tets.data() + first, block, stop, next_tet);
+      if (first == 0 && count < candidate_tets.size()) {
+        // The arrays whose sizes only the tets know, reserved from the first block's share
+        // (with room to spare: reserving touches no page): grown by doubling they were copied
+        // and faulted in again on the calling thread, a third of the merge's serial time.
+        const double scale = 1.5 * static_cast<double>(candidate_tets.size()) / static_cast<double>(count);
+        const auto expect = [&](std::size_t n) { return static_cast<std::size_t>(scale * static_cast<double>(n)) + kBlock; };
+        out_.fusions.reserve(expect(out_.fusions.size()));
+        traces_.reserve(expect(traces_.size()));
+        out_.embedded.reserve(expect(out_.embedded.size()));
+        advise_huge_pages(out_.fusions);
+        advise_huge_pages(traces_);
+        advise_huge_pages(out_.embedded);
+      }
       if (stop < count) {
         TetOut& o = block[stop];
         if (!o.defect) std::rethrow_exception(o.error);
