@@ -389,29 +389,27 @@ FemSolver& FemSolver::operator=(FemSolver&&) noexcept = default;
 
 namespace {
 
+/// The free degrees of freedom of `data`: vertex * D + axis -> its index among them (vertex-major
+/// order), or -1 for a fixed vertex's axes; `free_count` receives their number.
 template <int D>
-FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eigen::MatrixXd& fixed_targets,
-                   FemSolver::Impl& solver) {
-  const FemData<D>& data = potential.data;
-  const FemOptions& options = potential.options;
-  FemReport report;
-  for (std::size_t k = 0; k < data.fixed.size(); ++k) x.row(data.fixed[k]) = fixed_targets.row(static_cast<Eigen::Index>(k));
-  std::vector<Eigen::Index> dof(static_cast<std::size_t>(x.rows() * D), 0);
+std::vector<Eigen::Index> free_dofs(const FemData<D>& data, Eigen::Index& free_count) {
+  std::vector<Eigen::Index> dof(static_cast<std::size_t>(data.rest.vertex_count() * D), 0);
   for (Eigen::Index v : data.fixed)
     for (int a = 0; a < D; ++a) dof[static_cast<std::size_t>(v * D + a)] = -1;
-  Eigen::Index free_count = 0;
+  free_count = 0;
   for (Eigen::Index& d : dof)
     if (d == 0) d = free_count++;
     else d = -1;
-  // (the loop above numbers the free degrees of freedom in vertex-major order)
+  return dof;
+}
 
-  if (free_count == 0) {  // every vertex placed by the user: nothing to solve (nor to factor)
-    report.converged = true;
-    report.objective = potential.value(x);
-    return report;
-  }
-  // One pattern, ordering and symbolic factorization per solver (a simulation), unless the
-  // mesh or the fixed set changed; CHOLMOD's supernodal numeric factorization when needed.
+/// One pattern, ordering and symbolic factorization per solver (a simulation): builds them
+/// for `data`'s mesh and free degrees of freedom `dof` unless `solver` already holds them (the
+/// mesh and the fixed set unchanged, or fem_prepare ran), timed in report.seconds.analysis.
+template <int D>
+void prepare(const FemData<D>& data, const std::vector<Eigen::Index>& dof, Eigen::Index free_count,
+             FemSolver::Impl& solver, FemReport& report) {
+  report.unknowns = free_count;
   if (solver.dof != dof || solver.elements.rows() != data.rest.elements.rows() ||
       solver.elements.cols() != data.rest.elements.cols() || solver.elements != data.rest.elements) {
     const StageTimer timer(report.seconds.analysis);
@@ -421,9 +419,26 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     solver.factor.analyze(solver.pattern.matrix, FactorUse::factor_often);
     solver.has_factor = false;
   }
+  report.nonzeros = solver.pattern.matrix.nonZeros();
+}
+
+template <int D>
+FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eigen::MatrixXd& fixed_targets,
+                   FemSolver::Impl& solver) {
+  const FemData<D>& data = potential.data;
+  const FemOptions& options = potential.options;
+  FemReport report;
+  for (std::size_t k = 0; k < data.fixed.size(); ++k) x.row(data.fixed[k]) = fixed_targets.row(static_cast<Eigen::Index>(k));
+  Eigen::Index free_count = 0;
+  const std::vector<Eigen::Index> dof = free_dofs(data, free_count);
+  if (free_count == 0) {  // every vertex placed by the user: nothing to solve (nor to factor)
+    report.converged = true;
+    report.objective = potential.value(x);
+    return report;
+  }
+  // CHOLMOD's supernodal numeric factorization when needed, on the solver's symbolic one.
+  prepare(data, dof, free_count, solver, report);
   HessianPattern& pattern = solver.pattern;
-  report.unknowns = free_count;
-  report.nonzeros = pattern.matrix.nonZeros();
   const auto factorize = [&] {
     const StageTimer timer(report.seconds.factorization);
     ++report.factorizations;
@@ -571,6 +586,15 @@ FemData<D> fem_precompute(const SimplexMesh<D>& rest, const std::vector<Eigen::I
 }
 
 template <int D>
+FemReport fem_prepare(const FemData<D>& data, FemSolver& solver) {
+  FemReport report;
+  Eigen::Index free_count = 0;
+  const std::vector<Eigen::Index> dof = free_dofs(data, free_count);
+  if (free_count > 0) prepare(data, dof, free_count, solver.impl(), report);
+  return report;
+}
+
+template <int D>
 double elastic_energy(const FemData<D>& data, const Eigen::MatrixXd& positions, const Material& material) {
   FemOptions options;
   options.material = material;
@@ -621,6 +645,7 @@ FemReport fem_static(const FemData<D>& data, Eigen::MatrixXd& positions, const E
 
 #define IMM_FEM_INSTANTIATE(D)                                                                                   \
   template FemData<D> fem_precompute<D>(const SimplexMesh<D>&, const std::vector<Eigen::Index>&, const Material&); \
+  template FemReport fem_prepare<D>(const FemData<D>&, FemSolver&);                                              \
   template double elastic_energy<D>(const FemData<D>&, const Eigen::MatrixXd&, const Material&);                \
   template Eigen::MatrixXd elastic_forces<D>(const FemData<D>&, const Eigen::MatrixXd&, const Material&);       \
   template FemReport fem_step<D>(const FemData<D>&, FemState<D>&, const Eigen::MatrixXd&, const FemOptions&,       \

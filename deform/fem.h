@@ -88,7 +88,7 @@ struct FemState {
 
 /// CPU seconds per stage of one solve (the process's: all threads).
 struct FemSeconds {
-  double analysis = 0.0;       ///< sparsity pattern and symbolic factorization (once per FemSolver)
+  double analysis = 0.0;       ///< sparsity pattern and symbolic factorization (once per FemSolver: fem_prepare's, or the first step's)
   double assembly = 0.0;       ///< per-element SVDs, gradient and Newton matrix
   double factorization = 0.0;  ///< numeric factorizations, failed ones included
   double solve = 0.0;          ///< triangular solves and conjugate gradients
@@ -129,6 +129,15 @@ class FemSolver {
 /// @pre rest elements positively oriented (else `error`).
 template <int D>
 FemData<D> fem_precompute(const SimplexMesh<D>& rest, const std::vector<Eigen::Index>& fixed, const Material& material);
+
+/// Sets `solver` up for the steps of a simulation on `data` (its mesh and fixed set): the Newton
+/// matrix's sparsity pattern, its fill-reducing ordering and symbolic factorization, which the
+/// first fem_step / fem_static given `solver` would otherwise do (and report in its
+/// seconds.analysis). They depend on neither the positions nor the options, so a simulation can
+/// pay for them before its first step; the returned report says what they cost
+/// (seconds.analysis, unknowns, nonzeros; nothing else is solved).
+template <int D>
+FemReport fem_prepare(const FemData<D>& data, FemSolver& solver);
 
 /// Elastic energy sum_e vol_e Psi(F_e) at `positions`.
 template <int D>
