@@ -64,6 +64,13 @@ struct FemOptions {
   /// the gradient falls, down to pcg_tolerance |gradient|: the step is then the Newton step to
   /// about that relative accuracy, so the step test above keeps its meaning.
   double pcg_tolerance = 1e-4;
+  /// When the fixed vertices move (their targets differ from where the step starts them: their
+  /// previous positions in statics, x_n + h v_n in dynamics), first give the free vertices the
+  /// motion that the linearization of the potential there predicts (one solve with the Newton
+  /// matrix, whose factorization then preconditions the Newton iterations), kept if it lowers
+  /// the potential. Newton converges to the same stopping test from there, in fewer iterations
+  /// after a sudden handle jump (BENCHMARKS.md, "FEM"). false: start from the targets alone.
+  bool predict_fixed_motion = true;
   /// Threads for the element loops (0 = all cores). The results do not depend on it: every
   /// sum is taken in element order.
   unsigned threads = 0;
@@ -96,7 +103,7 @@ struct FemSeconds {
 };
 
 struct FemReport {
-  int newton_iterations = 0;
+  int newton_iterations = 0;   ///< the linear prediction's solve (FemOptions::predict_fixed_motion) counted as one
   bool converged = false;
   double objective = 0.0;       ///< the minimized potential at the result
   double max_step = 0.0;        ///< the last Newton step (largest vertex displacement)
