@@ -67,9 +67,9 @@ struct FemOptions {
   /// When the fixed vertices move (their targets differ from where the step starts them: their
   /// previous positions in statics, x_n + h v_n in dynamics), first give the free vertices the
   /// motion that the linearization of the potential there predicts (one solve with the Newton
-  /// matrix, whose factorization then preconditions the Newton iterations), kept if it lowers
-  /// the potential. Newton converges to the same stopping test from there, in fewer iterations
-  /// after a sudden handle jump (BENCHMARKS.md, "FEM"). false: start from the targets alone.
+  /// matrix there, counted as a Newton iteration), kept if it lowers the potential. Newton
+  /// converges to the same stopping test from there, in fewer iterations after a sudden handle
+  /// jump (BENCHMARKS.md, "FEM"). false: start from the targets alone.
   bool predict_fixed_motion = true;
   /// Threads for the element loops (0 = all cores). The results do not depend on it: every
   /// sum is taken in element order.
