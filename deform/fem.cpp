@@ -546,8 +546,8 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     const bool solved = gradient.allFinite() && solve(matrix, gradient, rhs, 0.1, step);
     predicting = false;
     ++report.newton_iterations;
-    // A factorization bought for the prediction alone (no earlier one to precondition with, as
-    // in a simulation's first step) is of the matrix before the handles moved, which the Newton
+    // A factorization made for the prediction (no factor kept, as in a simulation's first step,
+    // or the kept one used up) is of the matrix before the handles moved, which the Newton
     // iterations leave at once: preconditioned by it, the first step of the quintuple-torus jump
     // took 23 PCG iterations and still refactored at its end. The first Newton iteration
     // factors its own matrix instead (12 PCG iterations, and one Newton iteration fewer: its
