@@ -85,9 +85,10 @@ struct Potential {
   };
 
   /// The element's forces and, if `with_matrix`, its block of the Newton matrix `hessian`.
-  /// `rotations`: value()'s at these `x`, or nullptr.
+  /// `rotations`: value()'s at these `x`, or nullptr. `shift` (n x D, with the matrix; or nullptr):
+  /// the forces get d2E/dx2 shift added, the gradient of the quadratic model at x + shift.
   void element_terms(const Eigen::MatrixXd& x, Eigen::Index e, bool with_matrix, NewtonMatrix hessian,
-                     const Rotations* rotations, ElementTerms& out) const {
+                     const Rotations* rotations, const Eigen::MatrixXd* shift, ElementTerms& out) const {
     using Square = Eigen::Matrix<double, D, D>;
     const double mu = options.material.mu(), lambda = options.material.lambda();
     const ElementGeometry<D>& g = data.geometry[static_cast<std::size_t>(e)];
@@ -157,17 +158,25 @@ struct Potential {
         }
     }
     k *= g.volume;
+    if (shift == nullptr) return;
+    Eigen::Matrix<double, N, 1> moved;
+    for (int i = 0; i < D + 1; ++i) moved.template segment<D>(i * D) = shift->row(data.rest.elements(e, i)).transpose();
+    if (!moved.isZero(0.0)) out.forces.reshaped() += k * moved;
   }
 
   /// Gradient (n x D) and, when `pattern` is given, the Newton matrix `hessian` on the free
   /// degrees of freedom written into pattern->matrix's values (its sparsity is fixed per mesh, so
   /// the factorization's symbolic analysis is done once). `rotations`: value()'s at these `x`, or
-  /// nullptr. On options.threads threads, chunk by chunk of elements: the elements' terms in
+  /// nullptr. `shift` (n x D, zero on the free vertices; with `pattern`, or nullptr): the free
+  /// rows of the gradient are those of the quadratic model at x + shift, gradient(x) + d2E/dx2(x)
+  /// shift (the linear prediction of minimize()).
+  /// On options.threads threads, chunk by chunk of elements: the elements' terms in
   /// parallel, then each thread adds them into the rows and columns of its own range of vertices,
   /// in element order; so every entry is summed in the same order as on one thread, and the
   /// result does not depend on the thread count.
   void gradient_and_hessian(const Eigen::MatrixXd& x, HessianPattern* pattern, NewtonMatrix hessian,
-                            Eigen::MatrixXd& gradient, const Rotations* rotations = nullptr) const {
+                            Eigen::MatrixXd& gradient, const Rotations* rotations = nullptr,
+                            const Eigen::MatrixXd* shift = nullptr) const {
     gradient.setZero(x.rows(), D);
     double* values = nullptr;
     if (pattern != nullptr) {
@@ -183,7 +192,8 @@ struct Potential {
     for (Eigen::Index begin = 0; begin < m; begin += kChunk) {
       const Eigen::Index count = std::min(m - begin, kChunk);
       parallel_for(threads, static_cast<std::size_t>(count), [&](std::size_t i, unsigned) {
-        element_terms(x, begin + static_cast<Eigen::Index>(i), pattern != nullptr, hessian, rotations, terms[i]);
+        element_terms(x, begin + static_cast<Eigen::Index>(i), pattern != nullptr, hessian, rotations,
+                      pattern != nullptr ? shift : nullptr, terms[i]);
       }, 256);
       parallel_for(threads, threads, [&](std::size_t w, unsigned) {
         const Eigen::Index low = n * static_cast<Eigen::Index>(w) / threads, high = n * static_cast<Eigen::Index>(w + 1) / threads;
@@ -389,29 +399,27 @@ FemSolver& FemSolver::operator=(FemSolver&&) noexcept = default;
 
 namespace {
 
+/// The free degrees of freedom of `data`: vertex * D + axis -> its index among them (vertex-major
+/// order), or -1 for a fixed vertex's axes; `free_count` receives their number.
 template <int D>
-FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eigen::MatrixXd& fixed_targets,
-                   FemSolver::Impl& solver) {
-  const FemData<D>& data = potential.data;
-  const FemOptions& options = potential.options;
-  FemReport report;
-  for (std::size_t k = 0; k < data.fixed.size(); ++k) x.row(data.fixed[k]) = fixed_targets.row(static_cast<Eigen::Index>(k));
-  std::vector<Eigen::Index> dof(static_cast<std::size_t>(x.rows() * D), 0);
+std::vector<Eigen::Index> free_dofs(const FemData<D>& data, Eigen::Index& free_count) {
+  std::vector<Eigen::Index> dof(static_cast<std::size_t>(data.rest.vertex_count() * D), 0);
   for (Eigen::Index v : data.fixed)
     for (int a = 0; a < D; ++a) dof[static_cast<std::size_t>(v * D + a)] = -1;
-  Eigen::Index free_count = 0;
+  free_count = 0;
   for (Eigen::Index& d : dof)
     if (d == 0) d = free_count++;
     else d = -1;
-  // (the loop above numbers the free degrees of freedom in vertex-major order)
+  return dof;
+}
 
-  if (free_count == 0) {  // every vertex placed by the user: nothing to solve (nor to factor)
-    report.converged = true;
-    report.objective = potential.value(x);
-    return report;
-  }
-  // One pattern, ordering and symbolic factorization per solver (a simulation), unless the
-  // mesh or the fixed set changed; CHOLMOD's supernodal numeric factorization when needed.
+/// One pattern, ordering and symbolic factorization per solver (a simulation): builds them
+/// for `data`'s mesh and free degrees of freedom `dof` unless `solver` already holds them (the
+/// mesh and the fixed set unchanged, or fem_prepare ran), timed in report.seconds.analysis.
+template <int D>
+void prepare(const FemData<D>& data, const std::vector<Eigen::Index>& dof, Eigen::Index free_count,
+             FemSolver::Impl& solver, FemReport& report) {
+  report.unknowns = free_count;
   if (solver.dof != dof || solver.elements.rows() != data.rest.elements.rows() ||
       solver.elements.cols() != data.rest.elements.cols() || solver.elements != data.rest.elements) {
     const StageTimer timer(report.seconds.analysis);
@@ -421,9 +429,33 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     solver.factor.analyze(solver.pattern.matrix, FactorUse::factor_often);
     solver.has_factor = false;
   }
+  report.nonzeros = solver.pattern.matrix.nonZeros();
+}
+
+template <int D>
+FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eigen::MatrixXd& fixed_targets,
+                   FemSolver::Impl& solver) {
+  const FemData<D>& data = potential.data;
+  const FemOptions& options = potential.options;
+  FemReport report;
+  // The fixed vertices' motion in this solve: from where `x` has them (their previous positions
+  // in statics, their free flight x_n + h v_n in dynamics) to the targets.
+  const Eigen::MatrixXd start = x;
+  Eigen::MatrixXd shift = Eigen::MatrixXd::Zero(x.rows(), D);
+  for (std::size_t k = 0; k < data.fixed.size(); ++k) {
+    x.row(data.fixed[k]) = fixed_targets.row(static_cast<Eigen::Index>(k));
+    shift.row(data.fixed[k]) = x.row(data.fixed[k]) - start.row(data.fixed[k]);
+  }
+  Eigen::Index free_count = 0;
+  const std::vector<Eigen::Index> dof = free_dofs(data, free_count);
+  if (free_count == 0) {  // every vertex placed by the user: nothing to solve (nor to factor)
+    report.converged = true;
+    report.objective = potential.value(x);
+    return report;
+  }
+  // CHOLMOD's supernodal numeric factorization when needed, on the solver's symbolic one.
+  prepare(data, dof, free_count, solver, report);
   HessianPattern& pattern = solver.pattern;
-  report.unknowns = free_count;
-  report.nonzeros = pattern.matrix.nonZeros();
   const auto factorize = [&] {
     const StageTimer timer(report.seconds.factorization);
     ++report.factorizations;
@@ -432,42 +464,29 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     return solver.has_factor;
   };
   typename Potential<D>::Rotations rotations, trial_rotations;  // value()'s at x and at the trial
+  bool predicting = false;  // the linear prediction below: the model at `start` moved by `shift`
   const auto assemble = [&](NewtonMatrix matrix, Eigen::MatrixXd& gradient) {
     const StageTimer timer(report.seconds.assembly);
-    potential.gradient_and_hessian(x, &pattern, matrix, gradient, &rotations);
+    if (predicting) potential.gradient_and_hessian(start, &pattern, matrix, gradient, nullptr, &shift);
+    else potential.gradient_and_hessian(x, &pattern, matrix, gradient, &rotations);
   };
-
-  Eigen::MatrixXd gradient;
-  double objective = 0.0;
-  {
-    const StageTimer timer(report.seconds.line_search);
-    objective = potential.value(x, &rotations);
-  }
-  double first_residual = 0.0, previous_step = 0.0;
-  for (int iteration = 0; iteration < options.max_newton_iterations; ++iteration) {
-    NewtonMatrix matrix = NewtonMatrix::exact;
-    assemble(matrix, gradient);
-    if (!std::isfinite(objective) || !gradient.allFinite()) {  // forces or positions beyond doubles
-      report.error = "the potential or its gradient is not finite (forces, displacements or the time step out of range)";
-      break;
-    }
+  const auto free_rows = [&](const Eigen::MatrixXd& gradient) {  // -gradient on the free dofs
     Eigen::VectorXd rhs(free_count);
     for (std::size_t i = 0; i < dof.size(); ++i)
       if (dof[i] >= 0) rhs[dof[i]] = -gradient(static_cast<Eigen::Index>(i) / D, static_cast<Eigen::Index>(i) % D);
-    if (iteration == 0) first_residual = rhs.norm();
-    // The accuracy asked of a preconditioned solve (the forcing term of inexact Newton,
-    // Eisenstat & Walker 1996): 0.1 far from the minimum, where a Newton step is only a
-    // direction, then the gradient's reduction so far, which keeps the convergence
-    // superlinear, down to pcg_tolerance.
-    const double forcing = std::clamp(rhs.norm() / first_residual, std::min(options.pcg_tolerance, 0.1), 0.1);
-    Eigen::VectorXd step;
-    // First conjugate gradients on the exact matrix, preconditioned by the last factorization
-    // (of this step's or an earlier step's matrix). Negative curvature proves the exact matrix
-    // indefinite (compressed elements far from the minimum; at a minimum it is semidefinite, so
-    // the last iterations use it); then the projected one, always positive semidefinite.
-    // A factor that has cost as many preconditioned iterations as max_pcg_iterations is
-    // replaced, like one on which a single solve needs that many (rent until the rent paid
-    // equals the price: on the quintuple torus a factorization costs about 20 iterations).
+    return rhs;
+  };
+  // Solves the assembled Newton system `matrix` step = rhs (rhs = free_rows(gradient)) to the
+  // relative residual `forcing`. First conjugate gradients on the exact matrix, preconditioned
+  // by the last factorization (of this step's or an earlier step's matrix). Negative curvature
+  // proves the exact matrix indefinite (compressed elements far from the minimum; at a minimum
+  // it is semidefinite, so the last iterations use it); then the projected one, always positive
+  // semidefinite. A factor that has cost as many preconditioned iterations as
+  // max_pcg_iterations is replaced, like one on which a single solve needs that many (rent
+  // until the rent paid equals the price: on the quintuple torus a factorization costs about 20
+  // iterations). False: not even the fixed-rotation matrix could be factored.
+  const auto solve = [&](NewtonMatrix& matrix, Eigen::MatrixXd& gradient, Eigen::VectorXd& rhs, double forcing,
+                         Eigen::VectorXd& step) {
     bool solved = false;
     if (solver.has_factor && options.max_pcg_iterations > 0 && solver.pcg_since_factor < options.max_pcg_iterations) {
       for (;;) {
@@ -484,6 +503,7 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
         if (status != PcgStatus::negative_curvature || matrix != NewtonMatrix::exact) break;
         matrix = NewtonMatrix::projected;
         assemble(matrix, gradient);
+        rhs = free_rows(gradient);
       }
     }
     if (!solved) {
@@ -494,14 +514,78 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
       while (!factored && matrix != NewtonMatrix::fixed_rotation) {
         matrix = matrix == NewtonMatrix::exact ? NewtonMatrix::projected : NewtonMatrix::fixed_rotation;
         assemble(matrix, gradient);
+        rhs = free_rows(gradient);
         factored = factorize();
       }
-      if (!factored) {
-        report.error = "the Newton matrix could not be factored";
-        break;
-      }
+      if (!factored) return false;
       const StageTimer timer(report.seconds.solve);
       step = solver.factor.solve(rhs).col(0);
+    }
+    return true;
+  };
+
+  Eigen::MatrixXd gradient;
+  double objective = 0.0;
+  {
+    const StageTimer timer(report.seconds.line_search);
+    objective = potential.value(x, &rotations);
+  }
+  // Linear prediction of a handle motion. Moved at once, the handles shear the layer of
+  // elements next to them and leave the rest where it was, a poor start for Newton, which then
+  // spends its first iterations spreading the motion. Instead, the free vertices first take the
+  // motion the quadratic model of the potential at `start` gives them (linear elasticity about
+  // it: the matrix K there, gradient g + K shift on the free rows), which spreads the motion over
+  // the whole mesh in one solve with K, as a Newton iteration solves (PCG on the kept factor, or a
+  // factorization). The result is only a start: it is kept if it lowers the potential, and Newton
+  // then runs to the same stopping test.
+  if (options.predict_fixed_motion && !shift.isZero(0.0)) {
+    predicting = true;
+    NewtonMatrix matrix = NewtonMatrix::exact;
+    assemble(matrix, gradient);
+    Eigen::VectorXd rhs = free_rows(gradient), step;
+    const bool solved = gradient.allFinite() && solve(matrix, gradient, rhs, 0.1, step);
+    predicting = false;
+    ++report.newton_iterations;
+    // A factorization made for the prediction (no factor kept, as in a simulation's first step,
+    // or the kept one used up) is of the matrix before the handles moved, which the Newton
+    // iterations leave at once: preconditioned by it, the first step of the quintuple-torus jump
+    // took 23 PCG iterations and still refactored at its end. The first Newton iteration
+    // factors its own matrix instead (12 PCG iterations, and one Newton iteration fewer: its
+    // step is exact); a kept factor that PCG used for the prediction stays under the rent rule.
+    if (report.factorizations > 0) solver.has_factor = false;
+    if (solved) {
+      const StageTimer timer(report.seconds.line_search);
+      Eigen::MatrixXd trial = x;
+      for (std::size_t i = 0; i < dof.size(); ++i)
+        if (dof[i] >= 0) trial(static_cast<Eigen::Index>(i) / D, static_cast<Eigen::Index>(i) % D) += step[dof[i]];
+      const double trial_value = potential.value(trial, &trial_rotations);
+      if (trial_value < objective) {
+        x = trial;
+        objective = trial_value;
+        rotations.swap(trial_rotations);
+      }
+    }
+  }
+  const int predictions = report.newton_iterations;
+  double first_residual = 0.0, previous_step = 0.0;
+  for (int iteration = 0; iteration < options.max_newton_iterations; ++iteration) {
+    NewtonMatrix matrix = NewtonMatrix::exact;
+    assemble(matrix, gradient);
+    if (!std::isfinite(objective) || !gradient.allFinite()) {  // forces or positions beyond doubles
+      report.error = "the potential or its gradient is not finite (forces, displacements or the time step out of range)";
+      break;
+    }
+    Eigen::VectorXd rhs = free_rows(gradient);
+    if (iteration == 0) first_residual = rhs.norm();
+    // The accuracy asked of a preconditioned solve (the forcing term of inexact Newton,
+    // Eisenstat & Walker 1996): 0.1 far from the minimum, where a Newton step is only a
+    // direction, then the gradient's reduction so far, which keeps the convergence
+    // superlinear, down to pcg_tolerance.
+    const double forcing = std::clamp(rhs.norm() / first_residual, std::min(options.pcg_tolerance, 0.1), 0.1);
+    Eigen::VectorXd step;
+    if (!solve(matrix, gradient, rhs, forcing, step)) {
+      report.error = "the Newton matrix could not be factored";
+      break;
     }
     const StageTimer timer(report.seconds.line_search);
     Eigen::MatrixXd direction = Eigen::MatrixXd::Zero(x.rows(), D);
@@ -524,7 +608,7 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
         break;
       }
     }
-    report.newton_iterations = iteration + 1;
+    report.newton_iterations = predictions + iteration + 1;
     report.max_step = alpha * direction.rowwise().norm().maxCoeff();
     if (!accepted) {  // no decrease representable in doubles: at the minimum up to round-off
       report.converged = direction.rowwise().norm().maxCoeff() <= 1e3 * options.step_tolerance * data.edge_length;
@@ -568,6 +652,15 @@ FemData<D> fem_precompute(const SimplexMesh<D>& rest, const std::vector<Eigen::I
   data.mass = material.density * lumped_mass<D>(rest);
   data.edge_length = mean_edge_length<D>(rest.vertices, rest.elements);
   return data;
+}
+
+template <int D>
+FemReport fem_prepare(const FemData<D>& data, FemSolver& solver) {
+  FemReport report;
+  Eigen::Index free_count = 0;
+  const std::vector<Eigen::Index> dof = free_dofs(data, free_count);
+  if (free_count > 0) prepare(data, dof, free_count, solver.impl(), report);
+  return report;
 }
 
 template <int D>
@@ -621,6 +714,7 @@ FemReport fem_static(const FemData<D>& data, Eigen::MatrixXd& positions, const E
 
 #define IMM_FEM_INSTANTIATE(D)                                                                                   \
   template FemData<D> fem_precompute<D>(const SimplexMesh<D>&, const std::vector<Eigen::Index>&, const Material&); \
+  template FemReport fem_prepare<D>(const FemData<D>&, FemSolver&);                                              \
   template double elastic_energy<D>(const FemData<D>&, const Eigen::MatrixXd&, const Material&);                \
   template Eigen::MatrixXd elastic_forces<D>(const FemData<D>&, const Eigen::MatrixXd&, const Material&);       \
   template FemReport fem_step<D>(const FemData<D>&, FemState<D>&, const Eigen::MatrixXd&, const FemOptions&,       \

@@ -64,6 +64,13 @@ struct FemOptions {
   /// the gradient falls, down to pcg_tolerance |gradient|: the step is then the Newton step to
   /// about that relative accuracy, so the step test above keeps its meaning.
   double pcg_tolerance = 1e-4;
+  /// When the fixed vertices move (their targets differ from where the step starts them: their
+  /// previous positions in statics, x_n + h v_n in dynamics), first give the free vertices the
+  /// motion that the linearization of the potential there predicts (one solve with the Newton
+  /// matrix there, counted as a Newton iteration), kept if it lowers the potential. Newton
+  /// converges to the same stopping test from there, in fewer iterations after a sudden handle
+  /// jump (BENCHMARKS.md, "FEM"). false: start from the targets alone.
+  bool predict_fixed_motion = true;
   /// Threads for the element loops (0 = all cores). The results do not depend on it: every
   /// sum is taken in element order.
   unsigned threads = 0;
@@ -88,7 +95,7 @@ struct FemState {
 
 /// CPU seconds per stage of one solve (the process's: all threads).
 struct FemSeconds {
-  double analysis = 0.0;       ///< sparsity pattern and symbolic factorization (once per FemSolver)
+  double analysis = 0.0;       ///< sparsity pattern and symbolic factorization (once per FemSolver: fem_prepare's, or the first step's)
   double assembly = 0.0;       ///< per-element SVDs, gradient and Newton matrix
   double factorization = 0.0;  ///< numeric factorizations, failed ones included
   double solve = 0.0;          ///< triangular solves and conjugate gradients
@@ -96,7 +103,7 @@ struct FemSeconds {
 };
 
 struct FemReport {
-  int newton_iterations = 0;
+  int newton_iterations = 0;   ///< the linear prediction's solve (FemOptions::predict_fixed_motion) counted as one
   bool converged = false;
   double objective = 0.0;       ///< the minimized potential at the result
   double max_step = 0.0;        ///< the last Newton step (largest vertex displacement)
@@ -129,6 +136,15 @@ class FemSolver {
 /// @pre rest elements positively oriented (else `error`).
 template <int D>
 FemData<D> fem_precompute(const SimplexMesh<D>& rest, const std::vector<Eigen::Index>& fixed, const Material& material);
+
+/// Sets `solver` up for the steps of a simulation on `data` (its mesh and fixed set): the Newton
+/// matrix's sparsity pattern, its fill-reducing ordering and symbolic factorization, which the
+/// first fem_step / fem_static given `solver` would otherwise do (and report in its
+/// seconds.analysis). They depend on neither the positions nor the options, so a simulation can
+/// pay for them before its first step; the returned report says what they cost
+/// (seconds.analysis, unknowns, nonzeros; nothing else is solved).
+template <int D>
+FemReport fem_prepare(const FemData<D>& data, FemSolver& solver);
 
 /// Elastic energy sum_e vol_e Psi(F_e) at `positions`.
 template <int D>

@@ -51,6 +51,16 @@ class SerialOpenMp {
 class CholmodFactor : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> {
  public:
   [[nodiscard]] const cholmod_factor* raw() const { return m_cholmodFactor; }
+  /// factorize(), given the upper triangle of `a` (both triangles stored) instead of the lower
+  /// one. A supernodal factorization works on the lower triangle of the permuted matrix, which
+  /// CHOLMOD forms from an upper triangle with one transpose and from a lower one with two
+  /// (cholmod_factorize.c); a simplicial one is the other way round.
+  void factorize_upper(const Eigen::SparseMatrix<double>& a) {
+    cholmod_sparse upper = Eigen::viewAsCholmod(a.selfadjointView<Eigen::Upper>());
+    cholmod_factorize_p(&upper, m_shiftOffset, nullptr, 0, m_cholmodFactor, &cholmod());
+    m_info = m_cholmodFactor->minor == m_cholmodFactor->n ? Eigen::Success : Eigen::NumericalIssue;
+    m_factorizationIsOk = true;
+  }
 };
 
 struct SparseCholesky::Impl {
@@ -115,7 +125,8 @@ void SparseCholesky::analyze(const Eigen::SparseMatrix<double>& pattern, FactorU
 
 bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& a) {
   const SerialOpenMp serial;
-  impl_->factor.factorize(a);
+  if (impl_->factor.raw()->is_super) impl_->factor.factorize_upper(a);
+  else impl_->factor.factorize(a);
   return impl_->factor.info() == Eigen::Success;
 }
 

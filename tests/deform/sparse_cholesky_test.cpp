@@ -59,6 +59,30 @@ TYPED_TEST(SparseCholeskyOrdering, AGivenOrderingSolvesTheSameSystem) {
   EXPECT_EQ(order, identity);  // a permutation of the rows
 }
 
+// One symbolic analysis, then numeric factorizations of matrices with its pattern (the FEM Newton
+// matrices): each solves its own system, and an indefinite one is refused (the supernodal factor
+// reads the upper triangle, the simplicial one the lower; both are stored).
+TYPED_TEST(SparseCholeskyOrdering, AnalyzedPatternFactorsEachMatrixAndRefusesAnIndefiniteOne) {
+  constexpr int D = TypeParam::value;
+  const SimplexMesh<D> mesh = test::unit_grid<D>(D == 2 ? 12 : 5);
+  const Eigen::SparseMatrix<double> a = spd_matrix<D>(mesh);
+  const Eigen::Index n = a.rows();
+  Eigen::SparseMatrix<double> twice = 2.0 * a, indefinite = a;
+  for (Eigen::Index i = 0; i < n; ++i) indefinite.coeffRef(i, i) -= 10.0 * a.coeff(i, i);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+  for (FactorUse use : {FactorUse::factor_often, FactorUse::solve_often}) {
+    SparseCholesky factor;
+    factor.analyze(a, use);
+    ASSERT_TRUE(factor.factorize(a));
+    Eigen::VectorXd x = factor.solve(b).col(0);
+    EXPECT_LT((a * x - b).cwiseAbs().maxCoeff(), 1e-10 * b.cwiseAbs().maxCoeff());
+    EXPECT_FALSE(factor.factorize(indefinite));
+    ASSERT_TRUE(factor.factorize(twice));
+    x = factor.solve(b).col(0);
+    EXPECT_LT((twice * x - b).cwiseAbs().maxCoeff(), 1e-10 * b.cwiseAbs().maxCoeff());
+  }
+}
+
 TYPED_TEST(SparseCholeskyOrdering, FixedSolverWithAnotherSolversOrderingSolvesTheSameSystem) {
   constexpr int D = TypeParam::value;
   const SimplexMesh<D> mesh = test::unit_grid<D>(D == 2 ? 12 : 5);
