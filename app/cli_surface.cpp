@@ -345,6 +345,8 @@ int immerse_or_report(Session& s, PreparedSurface& p, const CommandLine& cl, con
   options.search = search_options(s, request);
   options.build.strict = s.strict();
   options.build.repair_folds = s.repair_folds();
+  // --threads bounds the whole run, the complex's triangulations included (0 = all cores).
+  if (auto n = cl.integer("--threads")) options.build.threads = static_cast<unsigned>(*n);
   if (cl.has("--no-helper-boxes")) options.max_boxes = 0;
   im = dim3::immerse_surface(p.surface, options);
   s.add_time("complex", im.build_seconds);
