@@ -79,8 +79,9 @@ class WorkerPool {
 
   /// Runs task(context, w) for every w in [0, workers), w = 0 on the calling thread and the
   /// others on the pool's threads (started when fewer are running), all in the calling thread's
-  /// floating-point environment (rounding mode), and returns when all have returned. The task must not throw. Returns false, having run nothing, when another thread
-  /// is running a loop on the pool.
+  /// floating-point environment (rounding mode), and returns when all have returned. The task
+  /// must not throw. Returns false, having run nothing, when another thread is running a loop on
+  /// the pool.
   bool try_run(unsigned workers, Task task, void* context) {
     std::unique_lock<std::mutex> caller(run_mutex_, std::try_to_lock);
     if (!caller.owns_lock()) return false;

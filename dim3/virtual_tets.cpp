@@ -250,8 +250,11 @@ class VirtualTets {
         // The arrays whose sizes only the tets know, reserved from the first block's share
         // (with room to spare: reserving touches no page): grown by doubling they were copied
         // and faulted in again on the calling thread, a third of the merge's serial time.
-        const double scale = 1.5 * static_cast<double>(candidate_tets.size()) / static_cast<double>(count);
-        const auto expect = [&](std::size_t n) { return static_cast<std::size_t>(scale * static_cast<double>(n)) + kBlock; };
+        const double scale =
+            1.5 * static_cast<double>(candidate_tets.size()) / static_cast<double>(count);
+        const auto expect = [&](std::size_t n) {
+          return static_cast<std::size_t>(scale * static_cast<double>(n)) + kBlock;
+        };
         out_.fusions.reserve(expect(out_.fusions.size()));
         traces_.reserve(expect(traces_.size()));
         out_.embedded.reserve(expect(out_.embedded.size()));
