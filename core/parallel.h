@@ -6,6 +6,7 @@
 #pragma once
 
 #include <time.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -70,8 +71,9 @@ class WorkerPool {
     return *pool;
   }
 
-  /// True on a thread running a task of the pool (the calling thread included): a loop started
-  /// there runs inline, as the pool is busy with the loop around it.
+  /// True on a thread running a loop's task (the calling thread included, and the threads of a
+  /// loop that could not have the pool): a loop started there runs inline, so nested loops do
+  /// not multiply the threads.
   static bool& inside() {
     thread_local bool flag = false;
     return flag;
@@ -79,10 +81,12 @@ class WorkerPool {
 
   /// Runs task(context, w) for every w in [0, workers), w = 0 on the calling thread and the
   /// others on the pool's threads (started when fewer are running), all in the calling thread's
-  /// floating-point environment (rounding mode), and returns when all have returned. The task
-  /// must not throw. Returns false, having run nothing, when another thread is running a loop on
-  /// the pool.
+  /// floating-point environment (rounding mode), and returns when all have returned. The task must
+  /// not throw. Returns false, having run nothing, when another thread is running a loop on the
+  /// pool, or in a child process forked after the pool started (the child has none of its
+  /// threads: waiting for them would hang, as in a Python multiprocessing worker).
   bool try_run(unsigned workers, Task task, void* context) {
+    if (::getpid() != owner_) return false;
     std::unique_lock<std::mutex> caller(run_mutex_, std::try_to_lock);
     if (!caller.owns_lock()) return false;
     {
@@ -128,6 +132,7 @@ class WorkerPool {
     }
   }
 
+  const pid_t owner_ = ::getpid();  ///< the process whose threads these are
   std::mutex run_mutex_;  ///< held by the thread whose loop runs on the pool
   std::mutex mutex_;      ///< guards everything below
   std::condition_variable wake_, done_;
@@ -148,9 +153,9 @@ class WorkerPool {
 /// expensive items balance. With one worker the items run in order on the calling thread, as do
 /// loops started inside a body (nested loops do not multiply the threads). The threads are the
 /// process's pool (detail::WorkerPool); a loop started while another thread's loop holds the pool
-/// runs on threads of its own. An exception thrown by a body stops the loop and is rethrown here
-/// (when several workers throw, the lowest-numbered worker's; callers that need the first item's
-/// error in item order catch inside the body, as the meshing loops do).
+/// runs on threads of its own (the caller still worker 0). An exception thrown by a body stops the
+/// loop and is rethrown here (when several workers throw, the lowest-numbered worker's; callers
+/// that need the first item's error in item order catch inside the body, as the meshing loops do).
 /// @param grain the fewest items worth a thread of their own.
 template <class Body>
 void parallel_for(unsigned threads, std::size_t count, const Body& body, std::size_t grain = 64) {
@@ -176,9 +181,15 @@ void parallel_for(unsigned threads, std::size_t count, const Body& body, std::si
   const detail::WorkerPool::Task task = [](void* context, unsigned w) { (*static_cast<const Work*>(context))(w); };
   const double start = thread_cpu_seconds();
   if (!detail::WorkerPool::instance().try_run(workers, task, const_cast<void*>(static_cast<const void*>(&work)))) {
+    const auto inside = [&](unsigned w) {
+      detail::WorkerPool::inside() = true;
+      work(w);
+      detail::WorkerPool::inside() = false;
+    };
     std::vector<std::thread> own;
-    own.reserve(workers);
-    for (unsigned w = 0; w < workers; ++w) own.emplace_back(work, w);
+    own.reserve(workers - 1);
+    for (unsigned w = 1; w < workers; ++w) own.emplace_back(inside, w);
+    inside(0);
     for (std::thread& th : own) th.join();
   }
   loop_cpu_seconds() += thread_cpu_seconds() - start;

@@ -1,13 +1,19 @@
 // core/parallel.h: parallel_for on the process's thread pool. Every index runs once, the caller
 // is worker 0, the pool's threads are kept between loops, nested loops run inline, errors come
 // back to the caller, loops from two outside threads both finish, and bodies run in the caller's
-// rounding mode.
+// rounding mode; a loop that finds the pool busy keeps the caller as worker 0 and its nested loops
+// inline, and a forked child's loops do not wait for the parent's threads.
 #include "core/parallel.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
 
 #include <atomic>
 #include <cfenv>
+#include <condition_variable>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -29,14 +35,21 @@ LoopRun run(unsigned threads, std::size_t count, std::size_t grain = 1) {
   LoopRun r;
   r.visits.assign(count, 0);
   std::mutex mutex;
+  std::condition_variable arrived;
+  // Every worker holds its first item until min(threads, count) threads have one (or 10 s have
+  // passed, which fails the checks on the thread set): so each worker takes an item however late
+  // the machine schedules it.
+  const std::size_t expected = std::min<std::size_t>(threads, count);
   parallel_for(threads, count, [&](std::size_t i, unsigned worker) {
     std::atomic_ref<int>(r.visits[i]).fetch_add(1);
-    // Enough work per item for every worker to take some.
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
-    const std::lock_guard<std::mutex> lock(mutex);
-    r.ids.insert(std::this_thread::get_id());
+    std::unique_lock<std::mutex> lock(mutex);
+    const bool first = r.ids.insert(std::this_thread::get_id()).second;
     r.workers.insert(worker);
     if (worker == 0) r.worker0 = std::this_thread::get_id();
+    if (first) {
+      arrived.notify_all();
+      arrived.wait_for(lock, std::chrono::seconds(10), [&] { return r.ids.size() >= expected; });
+    }
   }, grain);
   return r;
 }
@@ -54,7 +67,7 @@ TEST(ParallelFor, EveryIndexRunsOnceOnEveryThreadCount) {
 
 TEST(ParallelFor, TheCallerIsWorkerZeroAndThePoolsThreadsAreKept) {
   const LoopRun first = run(3, 300);
-  ASSERT_EQ(first.ids.size(), 3u);  // 300 sleeping items: every worker takes some
+  ASSERT_EQ(first.ids.size(), 3u);
   EXPECT_EQ(first.worker0, std::this_thread::get_id());
   const LoopRun second = run(3, 300);
   EXPECT_EQ(second.ids, first.ids) << "a loop started threads of its own instead of the pool's";
@@ -93,6 +106,55 @@ TEST(ParallelFor, LoopsFromTwoOutsideThreadsBothFinish) {
   b.join();
   for (const LoopRun& r : runs)
     for (int v : r.visits) EXPECT_EQ(v, 1);
+}
+
+// While another thread's loop holds the pool, a loop runs on threads of its own: the caller is
+// still worker 0, and a loop nested in its bodies still runs inline (it went to yet more threads).
+TEST(ParallelFor, ALoopThatFindsThePoolBusyKeepsTheCallerAsWorkerZeroAndNestsInline) {
+  std::atomic<bool> holding{false}, release{false};
+  std::thread holder([&] {
+    parallel_for(2, 2, [&](std::size_t, unsigned) {
+      holding = true;
+      while (!release) std::this_thread::yield();
+    }, 1);
+  });
+  while (!holding) std::this_thread::yield();
+  std::mutex mutex;
+  std::set<std::thread::id> worker0;
+  std::vector<int> inline_nested(8, 0);
+  parallel_for(2, inline_nested.size(), [&](std::size_t i, unsigned worker) {
+    const std::thread::id outer = std::this_thread::get_id();
+    if (worker == 0) {
+      const std::lock_guard<std::mutex> lock(mutex);
+      worker0.insert(outer);
+    }
+    bool same = true;
+    parallel_for(2, 64, [&](std::size_t, unsigned inner) { same = same && inner == 0 && std::this_thread::get_id() == outer; }, 1);
+    inline_nested[i] = same;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }, 1);
+  release = true;
+  holder.join();
+  EXPECT_EQ(worker0, std::set<std::thread::id>{std::this_thread::get_id()});
+  for (int ok : inline_nested) EXPECT_EQ(ok, 1);
+}
+
+// A child forked after the pool started has none of its threads: its loops must not wait for
+// them (a Python multiprocessing worker of a process that had meshed hung there).
+TEST(ParallelFor, AForkedChildsLoopsRunWithoutTheParentsThreads) {
+  run(2, 50);  // the pool's threads are running in this process
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::alarm(10);  // a hang ends as SIGALRM
+    std::vector<int> visits(200, 0);
+    parallel_for(2, visits.size(), [&](std::size_t i, unsigned) { std::atomic_ref<int>(visits[i]).fetch_add(1); }, 1);
+    ::_exit(std::all_of(visits.begin(), visits.end(), [](int v) { return v == 1; }) ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "the child's loop hung or crashed (signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0) << ")";
+  EXPECT_EQ(WEXITSTATUS(status), 0);
 }
 
 TEST(ParallelFor, BodiesRunInTheCallersRoundingMode) {
