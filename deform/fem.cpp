@@ -545,7 +545,7 @@ FemReport minimize(const Potential<D>& potential, Eigen::MatrixXd& x, const Eige
     Eigen::VectorXd rhs = free_rows(gradient), step;
     const bool solved = gradient.allFinite() && solve(matrix, gradient, rhs, 0.1, step);
     predicting = false;
-    ++report.newton_iterations;
+    if (solved) ++report.newton_iterations;  // a solve ran: counted as a Newton iteration
     // A factorization made for the prediction (no factor kept, as in a simulation's first step,
     // or the kept one used up) is of the matrix before the handles moved, which the Newton
     // iterations leave at once: preconditioned by it, the first step of the quintuple-torus jump

@@ -103,7 +103,7 @@ struct FemSeconds {
 };
 
 struct FemReport {
-  int newton_iterations = 0;   ///< the linear prediction's solve (FemOptions::predict_fixed_motion) counted as one
+  int newton_iterations = 0;   ///< the linear prediction's solve, when it ran (FemOptions::predict_fixed_motion), counted as one
   bool converged = false;
   double objective = 0.0;       ///< the minimized potential at the result
   double max_step = 0.0;        ///< the last Newton step (largest vertex displacement)
