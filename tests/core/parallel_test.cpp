@@ -157,6 +157,21 @@ TEST(ParallelFor, AForkedChildsLoopsRunWithoutTheParentsThreads) {
   EXPECT_EQ(WEXITSTATUS(status), 0);
 }
 
+// Many tiny loops back to back, on a pool that grows and shrinks between them: every loop ends
+// with every item run once (a lost wake-up or a stale loop's task would hang or miscount).
+TEST(ParallelFor, ThousandsOfTinyLoopsOnAGrowingAndShrinkingPool) {
+  std::vector<int> visits(8);
+  for (int loop = 0; loop < 3000; ++loop) {
+    const unsigned threads = loop % 3 == 0 ? 2 : loop % 3 == 1 ? 5 : 3;
+    std::fill(visits.begin(), visits.end(), 0);
+    parallel_for(threads, visits.size(), [&](std::size_t i, unsigned worker) {
+      ASSERT_LT(worker, threads);
+      std::atomic_ref<int>(visits[i]).fetch_add(1);
+    }, 1);
+    for (int v : visits) ASSERT_EQ(v, 1) << "loop " << loop;
+  }
+}
+
 TEST(ParallelFor, BodiesRunInTheCallersRoundingMode) {
   const auto modes = [](unsigned threads) {
     std::vector<int> mode(64, -1);
