@@ -60,8 +60,9 @@ TYPED_TEST(SparseCholeskyOrdering, AGivenOrderingSolvesTheSameSystem) {
 }
 
 // One symbolic analysis, then numeric factorizations of matrices with its pattern (the FEM Newton
-// matrices): each solves its own system, and an indefinite one is refused (the supernodal factor
-// reads the upper triangle, the simplicial one the lower; both are stored).
+// matrices): each solves its own system, and an indefinite one is refused. (Which triangle a
+// factorization reads, the upper one for CHOLMOD's supernodal factor, is not observable with both
+// stored, as the contract requires: the solves are what is checked.)
 TYPED_TEST(SparseCholeskyOrdering, AnalyzedPatternFactorsEachMatrixAndRefusesAnIndefiniteOne) {
   constexpr int D = TypeParam::value;
   const SimplexMesh<D> mesh = test::unit_grid<D>(D == 2 ? 12 : 5);
