@@ -647,8 +647,8 @@ void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
   mesh.reference.reserve(raw.tets.size());
   for (std::size_t t = 0; t < raw.tets.size(); ++t) {
     const auto& tet = raw.tets[t];
-    // Messages are only made for a defect: most tets have none, and formatting them was most
-    // of the read's time.
+    // Messages are only made for a defect: most tets have none, and formatting them for every
+    // tet was half of the read's time (quintuple torus .veg: 20 -> 9 ms).
     const auto where = [&] { return at(raw.tet_file, raw.tet_line[t]) + "tet " + std::to_string(t); };
     bool in_range = true;
     for (long long v : tet) {
