@@ -166,25 +166,27 @@ void BM_Deform_FemQuintuple(benchmark::State& state) {
   int newton = 0, factorizations = 0, pcg = 0, unconverged = 0;
   deform::FemReport last;
   double setup_seconds = 0.0, setup_cpu = 0.0;
+  // Runs f, adding its wall seconds to `wall` and its process CPU seconds to `cpu_seconds`.
+  const auto timed = [](double& wall, double& cpu_seconds, const auto& f) {
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = process_cpu_seconds();
+    f();
+    cpu_seconds += process_cpu_seconds() - cpu_start;
+    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
   for (auto _ : state) {
     deform::FemSolver solver;
-    const auto setup_start = std::chrono::steady_clock::now();
-    const double setup_cpu_start = process_cpu_seconds();
-    const deform::FemReport setup = deform::fem_prepare<3>(data, solver);
-    setup_cpu = process_cpu_seconds() - setup_cpu_start;
-    setup_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
-    benchmark::DoNotOptimize(setup);
+    setup_seconds = setup_cpu = 0.0;
+    timed(setup_seconds, setup_cpu, [&] { benchmark::DoNotOptimize(deform::fem_prepare<3>(data, solver)); });
     deform::FemState<3> s{mesh->vertices, Eigen::MatrixXd::Zero(mesh->vertex_count(), 3)};
     seconds.clear();
     cpu.clear();
     stages = {};
     newton = factorizations = pcg = unconverged = 0;
     for (int step = 0; step < steps; ++step) {
-      const auto start = std::chrono::steady_clock::now();
-      const double cpu_start = process_cpu_seconds();
-      last = deform::fem_step<3>(data, s, targets, options, &solver);
-      cpu.push_back(process_cpu_seconds() - cpu_start);
-      seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+      seconds.push_back(0.0);
+      cpu.push_back(0.0);
+      timed(seconds.back(), cpu.back(), [&] { last = deform::fem_step<3>(data, s, targets, options, &solver); });
       newton += last.newton_iterations;
       factorizations += last.factorizations;
       pcg += last.pcg_iterations;
