@@ -225,6 +225,9 @@ class Tokens {
     while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
   }
   [[nodiscard]] std::uint64_t line() const { return token_line_; }
+  /// The byte where reading goes on (after skip_line(): the end of the current line), for a
+  /// reader that splits the rest of the text among threads.
+  [[nodiscard]] std::size_t position() const { return pos_; }
 
  private:
   [[nodiscard]] bool is_separator(char c) const {

@@ -270,7 +270,7 @@ MeshResult mesh_immersion(const Complex& complex, const Immersion& immersion, co
   auto start = std::chrono::steady_clock::now();
   const Box3 box = used_bounding_box(complex.surface);
   if (options.background_path) {
-    TetReadResult read = read_tet_mesh(*options.background_path);
+    TetReadResult read = read_tet_mesh(*options.background_path, options.threads);
     result.report = std::move(read.report);
     result.background = std::move(read.mesh);
     if (read.reoriented > 0)

@@ -26,6 +26,7 @@
 #include <string_view>
 
 #include "core/medit.h"
+#include "core/parallel.h"
 #include "core/union_find.h"
 #include "dim3/background_limits.h"
 #include "dim3/tet_mesh.h"
@@ -96,13 +97,95 @@ void truncated(Defects& defects, const std::string& file, const char* what, long
   defects.add(DefectKind::Unreadable, truncated_message(file, what, i, n, header_line));
 }
 
+/// Records of at least this many lines are read on several threads (read_records_in_parallel).
+constexpr long long kParallelRecords = 1 << 12;
+
+/// Reads the `n` one-line records that follow `tokens` (just past a section header) on `threads`
+/// threads, as a loop calling read_one(tokens, i) for i = 0 .. n - 1 would: the rest of the text
+/// is cut into chunks at line ends, the lines holding a token (the records: blank lines and
+/// comment lines are skipped as Tokens::next skips them) are counted per chunk, and each chunk
+/// then reads its records with a Tokens of its own, started at its first byte and line.
+/// read_one(chunk_tokens, i) reads record i from its first token to its line's end (skip_line)
+/// and returns false on anything unexpected. On success `tokens` goes on after record n - 1.
+/// @return false when the text has fewer than n records or a record failed: nothing is reported
+/// then, and the caller reads the section one record at a time, for its messages.
+template <class ReadOne>
+bool read_records_in_parallel(std::string_view text, Tokens& tokens, TokenRules rules, long long n,
+                              unsigned threads, const ReadOne& read_one) {
+  const std::size_t start = tokens.position();
+  const std::uint64_t start_line = tokens.line();
+  constexpr std::size_t kChunk = 1 << 16;  // bytes
+  std::vector<std::size_t> begin{start};
+  for (std::size_t at = start + kChunk; at < text.size(); at += kChunk) {
+    const std::size_t end_of_line = text.find('\n', std::max(at, begin.back()));
+    if (end_of_line == std::string_view::npos) break;
+    if (end_of_line + 1 < text.size() && end_of_line + 1 > begin.back()) begin.push_back(end_of_line + 1);
+    at = begin.back();
+  }
+  const std::size_t chunks = begin.size();
+  begin.push_back(text.size());
+  const auto separator = [&](char c) { return is_space(c) || (rules.comma_separates && c == ','); };
+  // Per chunk: its records and line breaks; then, by prefix sums, its first record and line.
+  std::vector<long long> records(chunks + 1, 0);
+  std::vector<std::uint64_t> breaks(chunks + 1, 0);
+  parallel_for(threads, chunks, [&](std::size_t c, unsigned) {
+    long long r = 0;
+    std::uint64_t b = 0;
+    for (std::size_t at = begin[c]; at < begin[c + 1];) {
+      std::size_t first = at;
+      while (first < begin[c + 1] && text[first] != '\n' && separator(text[first])) ++first;
+      if (first < begin[c + 1] && text[first] != '\n' && (text[first] != '#' || rules.hash == TokenRules::Hash::Text))
+        ++r;
+      const std::size_t end_of_line = text.find('\n', first);
+      if (end_of_line == std::string_view::npos || end_of_line >= begin[c + 1]) break;
+      ++b;
+      at = end_of_line + 1;
+    }
+    records[c + 1] = r;
+    breaks[c + 1] = b;
+  }, /*grain=*/1);
+  for (std::size_t c = 0; c < chunks; ++c) {
+    records[c + 1] += records[c];
+    breaks[c + 1] += breaks[c];
+  }
+  if (records[chunks] < n) return false;  // truncated: the message comes from the serial reading
+  std::atomic<bool> ok{true};
+  std::size_t end_position = start;
+  std::uint64_t end_line = start_line;
+  parallel_for(threads, chunks, [&](std::size_t c, unsigned) {
+    if (records[c] >= n || !ok.load(std::memory_order_relaxed)) return;
+    Tokens chunk(text, rules, begin[c], start_line + breaks[c], start_line + breaks[c]);
+    const long long last = std::min(records[c + 1], n);
+    for (long long i = records[c]; i < last; ++i) {
+      if (!read_one(chunk, i)) {
+        ok = false;
+        return;
+      }
+    }
+    if (last == n) {  // the chunk of the last record: where the caller's reading goes on
+      end_position = chunk.position();
+      end_line = chunk.line();
+    }
+  }, /*grain=*/1);
+  if (!ok) return false;
+  tokens = Tokens(text, rules, end_position, end_line, end_line);
+  return true;
+}
+
+/// Vertex i's fields after its index token: the index (i + base) and 'x y z'.
+bool read_vertex_fields(Tokens& tokens, std::string_view index_token, long long i, int base, Point3& p) {
+  const auto index = parse_integer(index_token);
+  return index && *index == i + base && read_point(tokens, p);
+}
+
 /// Reads a vertex section of Vega or TetGen (.node): the header 'N 3 ...' (the rest of its line is
 /// skipped), then N lines 'index x y z ...'. The first index numbers the vertices from 0 or 1
 /// (raw.index_base); the others must follow consecutively. `bad_header` is the message for a
 /// header that is not 'N 3', `numbering` says in a message how the format numbers vertices.
+/// Large sections are read on `threads` threads (read_records_in_parallel).
 /// @return false when it reported an Unreadable defect (the reading stops)
-bool read_vertex_section(std::string_view text, Tokens& tokens, const std::string& file,
-                         const char* bad_header, const char* numbering, RawMesh& raw,
+bool read_vertex_section(std::string_view text, Tokens& tokens, TokenRules rules, const std::string& file,
+                         const char* bad_header, const char* numbering, RawMesh& raw, unsigned threads,
                          Defects& defects) {
   const auto n = parse_count(tokens.next());
   const std::uint64_t header_line = tokens.line();
@@ -112,6 +195,28 @@ bool read_vertex_section(std::string_view text, Tokens& tokens, const std::strin
     return false;
   }
   tokens.skip_line();
+  // The first index says how the file numbers its vertices.
+  if (Tokens peek = tokens; const auto first = peek.next()) {
+    const auto index = parse_integer(*first);
+    if (index && (*index == 0 || *index == 1)) raw.index_base = static_cast<int>(*index);
+  }
+  if (*n >= kParallelRecords && resolve_threads(threads) > 1 &&
+      static_cast<unsigned long long>(*n) <= text.size() / 8) {  // as reserve_records
+    raw.vertices.resize(static_cast<std::size_t>(*n));
+    raw.vertex_line.resize(static_cast<std::size_t>(*n));
+    if (read_records_in_parallel(text, tokens, rules, *n, resolve_threads(threads), [&](Tokens& t, long long i) {
+          const auto index_token = t.next();
+          Point3 p{};
+          if (!index_token || !read_vertex_fields(t, *index_token, i, raw.index_base, p)) return false;
+          raw.vertices[static_cast<std::size_t>(i)] = p;
+          raw.vertex_line[static_cast<std::size_t>(i)] = t.line();
+          t.skip_line();  // TetGen: attributes, boundary marker
+          return true;
+        }))
+      return true;
+    raw.vertices.clear();
+    raw.vertex_line.clear();
+  }
   reserve_records(raw.vertices, *n, text, 8);
   for (long long i = 0; i < *n; ++i) {
     const auto index_token = tokens.next();
@@ -120,10 +225,8 @@ bool read_vertex_section(std::string_view text, Tokens& tokens, const std::strin
       return false;
     }
     const std::uint64_t line = tokens.line();
-    const auto index = parse_integer(*index_token);
-    if (i == 0 && index && (*index == 0 || *index == 1)) raw.index_base = static_cast<int>(*index);
     Point3 p{};
-    if (!index || *index != i + raw.index_base || !read_point(tokens, p)) {
+    if (!read_vertex_fields(tokens, *index_token, i, raw.index_base, p)) {
       defects.add(DefectKind::Unreadable,
                   at(file, line) + "expected vertex " + std::to_string(i + raw.index_base) +
                       " as 'index x y z' (vertices numbered consecutively from " + numbering +
@@ -137,20 +240,65 @@ bool read_vertex_section(std::string_view text, Tokens& tokens, const std::strin
   return true;
 }
 
+/// A tet's fields after its index token (an integer): `corners` vertex numbers, the first four
+/// kept in `tet`, then, when `attributes` > 0, the first attribute as `reference` if it is an
+/// integer (else 0). False when the index or a vertex number is not an integer.
+bool read_tet_fields(Tokens& tokens, std::string_view index_token, long long corners, long long attributes,
+                     std::array<long long, 4>& tet, int& reference) {
+  bool ok = parse_integer(index_token).has_value();
+  for (long long k = 0; k < corners && ok; ++k) {
+    const auto t = tokens.next_on_line();
+    const auto v = t ? parse_integer(*t) : std::nullopt;
+    ok = v.has_value();
+    if (ok && k < 4) tet[k] = *v;
+  }
+  if (!ok) return false;
+  reference = 0;
+  if (attributes > 0) {
+    if (const auto t = tokens.next_on_line()) {
+      if (const auto value = parse_double(*t);
+          value && std::isfinite(*value) && *value == std::trunc(*value) && std::abs(*value) < 2e9)
+        reference = static_cast<int>(*value);
+    }
+  }
+  return true;
+}
+
 /// Reads the `m` tet lines of Vega or TetGen (.ele) after their header on line `header_line`:
 /// 'index v0 v1 ... [attributes]' with `corners` vertex numbers (4, or 10 for a quadratic tet
 /// whose corners come first), kept as numbered in the file. When `attributes` > 0, the first one
 /// (TetGen's region number) becomes the reference if it is an integer; otherwise it is 0.
-/// `record` is the expected line for a message ("'index v0 v1 v2 v3'").
+/// `record` is the expected line for a message ("'index v0 v1 v2 v3'"). Many tets are read on
+/// `threads` threads (read_records_in_parallel).
 /// @return false when it reported an Unreadable defect (the reading stops)
-bool read_tet_records(std::string_view text, Tokens& tokens, const std::string& file, long long m,
-                      std::uint64_t header_line, long long corners, long long attributes,
-                      const char* record, RawMesh& raw, Defects& defects) {
+bool read_tet_records(std::string_view text, Tokens& tokens, TokenRules rules, const std::string& file,
+                      long long m, std::uint64_t header_line, long long corners, long long attributes,
+                      const char* record, RawMesh& raw, unsigned threads, Defects& defects) {
   if (static_cast<unsigned long long>(m) > kMaxBackgroundTets) {
     defects.add(DefectKind::Unreadable, at(file, header_line) + "the header announces " + std::to_string(m) +
                                             " tets, more than the " + std::to_string(kMaxBackgroundTets) +
                                             " a background mesh may have");
     return false;
+  }
+  if (m >= kParallelRecords && resolve_threads(threads) > 1 &&
+      static_cast<unsigned long long>(m) <= text.size() / 10) {  // as reserve_records
+    const auto size = static_cast<std::size_t>(m);
+    raw.tets.resize(size);
+    raw.reference.resize(size);
+    raw.tet_line.resize(size);
+    if (read_records_in_parallel(text, tokens, rules, m, resolve_threads(threads), [&](Tokens& t, long long e) {
+          const auto index_token = t.next();
+          const auto k = static_cast<std::size_t>(e);
+          if (!index_token || !read_tet_fields(t, *index_token, corners, attributes, raw.tets[k], raw.reference[k]))
+            return false;
+          raw.tet_line[k] = t.line();
+          t.skip_line();
+          return true;
+        }))
+      return true;
+    raw.tets.clear();
+    raw.reference.clear();
+    raw.tet_line.clear();
   }
   reserve_records(raw.tets, m, text, 10);
   for (long long e = 0; e < m; ++e) {
@@ -161,26 +309,11 @@ bool read_tet_records(std::string_view text, Tokens& tokens, const std::string& 
     }
     const std::uint64_t line = tokens.line();
     std::array<long long, 4> tet{};
-    bool ok = parse_integer(*index_token).has_value();
-    for (long long k = 0; k < corners && ok; ++k) {
-      const auto t = tokens.next_on_line();
-      const auto v = t ? parse_integer(*t) : std::nullopt;
-      ok = v.has_value();
-      if (ok && k < 4) tet[k] = *v;
-    }
-    if (!ok) {
+    int reference = 0;
+    if (!read_tet_fields(tokens, *index_token, corners, attributes, tet, reference)) {
       defects.add(DefectKind::Unreadable, at(file, line) + "expected tet " + std::to_string(e) +
                                               " as " + record + " (integers)");
       return false;
-    }
-    int reference = 0;
-    if (attributes > 0) {
-      if (const auto t = tokens.next_on_line()) {
-        if (const auto value = parse_double(*t); value && std::isfinite(*value) &&
-                                                 *value == std::trunc(*value) &&
-                                                 std::abs(*value) < 2e9)
-          reference = static_cast<int>(*value);
-      }
     }
     raw.tets.push_back(tet);
     raw.reference.push_back(reference);
@@ -199,9 +332,10 @@ void to_zero_based(RawMesh& raw) {
 
 // ---- Vega .veg ---------------------------------------------------------------------------------
 
-void parse_veg(std::string_view text, RawMesh& raw, Defects& defects) {
+void parse_veg(std::string_view text, RawMesh& raw, unsigned threads, Defects& defects) {
   const std::string& file = raw.vertex_file;
-  Tokens tokens(text, {TokenRules::Hash::CommentAnywhere, /*comma_separates=*/true});
+  const TokenRules rules{TokenRules::Hash::CommentAnywhere, /*comma_separates=*/true};
+  Tokens tokens(text, rules);
   bool saw_vertices = false;
   bool saw_elements = false;
   std::optional<std::string_view> token = tokens.next();
@@ -227,9 +361,9 @@ void parse_veg(std::string_view text, RawMesh& raw, Defects& defects) {
     if (keyword == "*VERTICES") {
       if (!first_section(saw_vertices)) return;
       tokens.skip_line();
-      if (!read_vertex_section(text, tokens, file,
+      if (!read_vertex_section(text, tokens, rules, file,
                                "expected the vertex header 'N 3 0 0' (N vertices in 3D)", "1", raw,
-                               defects))
+                               threads, defects))
         return;
       token = tokens.next();
     } else if (keyword == "*ELEMENTS") {
@@ -252,8 +386,8 @@ void parse_veg(std::string_view text, RawMesh& raw, Defects& defects) {
         return;
       }
       tokens.skip_line();
-      if (!read_tet_records(text, tokens, file, *m, header_line, /*corners=*/4, /*attributes=*/0,
-                            "'index v0 v1 v2 v3'", raw, defects))
+      if (!read_tet_records(text, tokens, rules, file, *m, header_line, /*corners=*/4, /*attributes=*/0,
+                            "'index v0 v1 v2 v3'", raw, threads, defects))
         return;
       token = tokens.next();
     } else if (keyword == "*INCLUDE") {
@@ -293,16 +427,18 @@ void parse_medit(std::string_view text, RawMesh& raw, Defects& defects) {
 
 // ---- TetGen .node / .ele -----------------------------------------------------------------------
 
-void parse_node(std::string_view text, RawMesh& raw, Defects& defects) {
-  Tokens tokens(text, {TokenRules::Hash::CommentAnywhere});
-  read_vertex_section(text, tokens, raw.vertex_file,
+void parse_node(std::string_view text, RawMesh& raw, unsigned threads, Defects& defects) {
+  const TokenRules rules{TokenRules::Hash::CommentAnywhere};
+  Tokens tokens(text, rules);
+  read_vertex_section(text, tokens, rules, raw.vertex_file,
                       "expected the header 'N 3 attributes boundary_marker'", "0 or 1", raw,
-                      defects);
+                      threads, defects);
 }
 
-void parse_ele(std::string_view text, RawMesh& raw, Defects& defects) {
+void parse_ele(std::string_view text, RawMesh& raw, unsigned threads, Defects& defects) {
   const std::string& file = raw.tet_file;
-  Tokens tokens(text, {TokenRules::Hash::CommentAnywhere});
+  const TokenRules rules{TokenRules::Hash::CommentAnywhere};
+  Tokens tokens(text, rules);
   const auto m = parse_count(tokens.next());
   const std::uint64_t header_line = tokens.line();
   const auto per_tet_token = tokens.next_on_line();
@@ -317,8 +453,8 @@ void parse_ele(std::string_view text, RawMesh& raw, Defects& defects) {
     return;
   }
   tokens.skip_line();
-  if (read_tet_records(text, tokens, file, *m, header_line, corners, *attributes,
-                       "'index v0 v1 v2 v3 [attributes]'", raw, defects))
+  if (read_tet_records(text, tokens, rules, file, *m, header_line, corners, *attributes,
+                       "'index v0 v1 v2 v3 [attributes]'", raw, threads, defects))
     to_zero_based(raw);  // numbered like the .node file
 }
 
@@ -622,8 +758,8 @@ std::optional<std::string> read_file(const std::string& path, Defects& defects) 
 }
 
 /// Index range, non-finite coordinates, exact orientation: the raw mesh becomes a TetMesh whose
-/// tets are all positively oriented.
-void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
+/// tets are all positively oriented. The orientations are found on `threads` threads.
+void finish(RawMesh& raw, TetReadResult& result, unsigned threads, Defects& defects) {
   TetMesh& mesh = result.mesh;
   mesh.vertices = std::move(raw.vertices);
   const auto n = static_cast<long long>(mesh.vertices.size());
@@ -643,6 +779,22 @@ void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
                                             " a background mesh may have");
     return;
   }
+  const auto point = [&](long long v) {
+    const Point3& p = mesh.vertices[static_cast<std::size_t>(v)];
+    return Kernel::Point_3(p[0], p[1], p[2]);
+  };
+  // The orientation of every tet whose corners are in range and finite (0 for the others, which
+  // are reported below); on several threads, exact (Epick's filtered predicate).
+  std::vector<std::int8_t> orientation(raw.tets.size(), 0);
+  parallel_blocks(threads, raw.tets.size(), 1 << 13, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      const auto& tet = raw.tets[t];
+      bool usable = true;
+      for (long long v : tet) usable = usable && v >= 0 && v < n && is_finite(mesh.vertices[static_cast<std::size_t>(v)]);
+      if (usable)
+        orientation[t] = static_cast<std::int8_t>(CGAL::orientation(point(tet[0]), point(tet[1]), point(tet[2]), point(tet[3])));
+    }
+  });
   mesh.tets.reserve(raw.tets.size());
   mesh.reference.reserve(raw.tets.size());
   for (std::size_t t = 0; t < raw.tets.size(); ++t) {
@@ -675,9 +827,7 @@ void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
         s += (k ? ", " : "") + std::to_string(tet[k]) + " " + format_point(*p[k]);
       return s;
     };
-    auto point = [&](int k) { return Kernel::Point_3((*p[k])[0], (*p[k])[1], (*p[k])[2]); };
-    const CGAL::Orientation orientation = CGAL::orientation(point(0), point(1), point(2), point(3));
-    if (orientation == CGAL::COPLANAR) {
+    if (orientation[t] == CGAL::COPLANAR) {
       std::vector<long> vertex_ids(tet.begin(), tet.end());
       std::vector<std::vector<double>> points;
       for (int k = 0; k < 4; ++k) points.push_back(coordinates(*p[k]));
@@ -691,7 +841,7 @@ void finish(RawMesh& raw, TetReadResult& result, Defects& defects) {
     }
     Tet out{static_cast<int>(tet[0]), static_cast<int>(tet[1]), static_cast<int>(tet[2]),
             static_cast<int>(tet[3])};
-    if (orientation == CGAL::NEGATIVE) {
+    if (orientation[t] == CGAL::NEGATIVE) {
       std::swap(out[2], out[3]);
       ++result.reoriented;
     }
@@ -717,7 +867,7 @@ bool is_tet_mesh_extension(const std::string& path) {
   return has_extension(path, {".veg", ".mesh", ".node", ".ele", ".msh"});
 }
 
-TetReadResult read_tet_mesh(const std::string& path) {
+TetReadResult read_tet_mesh(const std::string& path, unsigned threads) {
   TetReadResult result;
   Defects defects;
   const std::string ext = lower_extension(path);
@@ -734,20 +884,20 @@ TetReadResult read_tet_mesh(const std::string& path) {
     const auto node = read_file(raw.vertex_file, defects);
     const auto ele = read_file(raw.tet_file, defects);
     if (node && ele) {
-      parse_node(*node, raw, defects);
-      if (!defects.any()) parse_ele(*ele, raw, defects);
+      parse_node(*node, raw, threads, defects);
+      if (!defects.any()) parse_ele(*ele, raw, threads, defects);
     }
   } else if (const auto text = read_file(path, defects)) {
     if (ext == ".veg") {
       raw.index_base = 1;
-      parse_veg(*text, raw, defects);
+      parse_veg(*text, raw, threads, defects);
     } else if (ext == ".msh") {
       parse_gmsh(*text, raw, defects);
     } else {
       parse_medit(*text, raw, defects);
     }
   }
-  if (!defects.any()) finish(raw, result, defects);
+  if (!defects.any()) finish(raw, result, resolve_threads(threads), defects);
   result.report = defects.take();
   return result;
 }

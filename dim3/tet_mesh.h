@@ -40,7 +40,9 @@ struct TetReadResult {
 /// order, tets in element-tag order; reference = the first physical tag of the tet's volume
 /// entity minus one, -1 for an entity without one). Negatively oriented tets are turned; zero-volume tets, indices out of range,
 /// non-finite coordinates and empty meshes are defects naming tet ids, vertex ids and coordinates.
-TetReadResult read_tet_mesh(const std::string& path);
+/// Large Vega and TetGen files are parsed, and every file's tets oriented, on `threads` threads
+/// (0: one per hardware thread); the result, messages included, is the same for every count.
+TetReadResult read_tet_mesh(const std::string& path, unsigned threads = 0);
 
 /// True when the extension is one `read_tet_mesh` takes (.veg .mesh .node .ele .msh, any case).
 bool is_tet_mesh_extension(const std::string& path);

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <set>
 
 namespace imm::dim3 {
@@ -401,6 +402,162 @@ TEST(TetDefects, UnreadableFilesNameFileAndLine) {
   const Defect& gap = only_defect(read_tet_mesh(temp_dir() + "/gap.node").report);
   EXPECT_EQ(gap.kind, DefectKind::Unreadable);
   EXPECT_TRUE(contains(gap.message, "gap.node:3:")) << gap.message;
+}
+
+// ---- large files, read on several threads
+// -------------------------------------------------------------------------
+
+/// A Vega text of `mesh` decorated the ways a file may be: comment lines, blank lines, commas,
+/// trailing comments and attributes; `line_of_tet[t]` is the line (1-based) of tet t's record,
+/// counted here as the text is written, independently of the reader.
+std::string decorated_veg(const TetMesh& mesh, std::vector<std::size_t>& line_of_tet, unsigned seed) {
+  std::mt19937 random(seed);
+  std::string text;
+  std::size_t line = 1;
+  const auto put = [&](const std::string& s) {
+    text += s;
+    line += static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n'));
+  };
+  const auto noise = [&] {
+    switch (random() % 16) {
+      case 0: put("# a comment line, 1 2 3 4\n"); break;
+      case 1: put("\n"); break;
+      case 2: put(" \t , \n"); break;
+      case 3: put("   # indented comment\n"); break;
+      default: break;
+    }
+  };
+  const auto number = [](double x) {
+    char buffer[32];
+    const auto end = std::to_chars(buffer, buffer + sizeof buffer, x).ptr;
+    return std::string(buffer, end);
+  };
+  put("# Vega mesh file.\n*VERTICES\n" + std::to_string(mesh.vertices.size()) + " 3 0 0\n");
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    noise();
+    const Point3& p = mesh.vertices[v];
+    const char* separator = random() % 2 ? ", " : " \t";
+    put(std::to_string(v + 1) + separator + number(p[0]) + separator + number(p[1]) + separator + number(p[2]) +
+        (random() % 3 == 0 ? "#c\n" : "\n"));
+  }
+  put("\n*ELEMENTS\nTET\n" + std::to_string(mesh.tets.size()) + " 4 0\n");
+  line_of_tet.assign(mesh.tets.size(), 0);
+  for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+    noise();
+    line_of_tet[t] = line;
+    std::string record = std::to_string(t + 1);
+    for (int k = 0; k < 4; ++k) record += (random() % 2 ? "," : " ") + std::to_string(mesh.tets[t][k] + 1);
+    put(record + (random() % 4 == 0 ? "  # trailing\n" : "\n"));
+  }
+  put("*MATERIAL defaultMaterial\nENU, 1000, 1000000, 0.45\n");
+  return text;
+}
+
+void expect_same_read(const TetReadResult& a, const TetReadResult& b, const std::string& what) {
+  EXPECT_EQ(a.mesh.vertices, b.mesh.vertices) << what;
+  EXPECT_EQ(a.mesh.tets, b.mesh.tets) << what;
+  EXPECT_EQ(a.mesh.reference, b.mesh.reference) << what;
+  EXPECT_EQ(a.reoriented, b.reoriented) << what;
+  EXPECT_EQ(a.report.summary(), b.report.summary()) << what;
+  ASSERT_EQ(a.report.defects.size(), b.report.defects.size()) << what;
+  for (std::size_t i = 0; i < a.report.defects.size(); ++i)
+    EXPECT_EQ(a.report.defects[i].message, b.report.defects[i].message) << what;
+}
+
+// Files of more than a few thousand records are parsed on several threads, each chunk of the
+// text from its own first line: the vertices, tets, line numbers in messages and every defect
+// must be those of the one-thread reading (checked against the line numbers the writer counted).
+TEST(TetLargeFiles, ReadOnSeveralThreadsAsOnOne) {
+  const TetMesh grid = make_grid_background({{-1.0, 0.25, 0.0}, {2.0, 3.0 + 1.0 / 3, 2.9}}, 17);
+  ASSERT_GT(grid.vertices.size(), 5000u);
+  ASSERT_GT(grid.tets.size(), 20000u);
+  for (const unsigned seed : {1u, 2u}) {
+    std::vector<std::size_t> line_of_tet;
+    std::string text = decorated_veg(grid, line_of_tet, seed);
+    const std::string path = write_temp("large" + std::to_string(seed) + ".veg", text);
+    const TetReadResult one = read_tet_mesh(path, 1);
+    ASSERT_TRUE(one.report.ok()) << one.report.summary();
+    EXPECT_EQ(one.mesh.vertices, grid.vertices);
+    EXPECT_EQ(one.mesh.tets, grid.tets);
+    for (const unsigned threads : {2u, 3u, 8u}) expect_same_read(one, read_tet_mesh(path, threads), path);
+  }
+
+  // Defects late in the file: a zero-volume tet and one out of range, named at their lines.
+  TetMesh broken = grid;
+  const std::size_t flat = 17001, outside = 19999;
+  broken.tets[flat][3] = broken.tets[flat][0];
+  broken.tets[outside][2] = static_cast<int>(grid.vertices.size());
+  std::vector<std::size_t> line_of_tet;
+  const std::string path = write_temp("large_defects.veg", decorated_veg(broken, line_of_tet, 3));
+  const TetReadResult one = read_tet_mesh(path, 1);
+  ASSERT_EQ(one.report.defects.size(), 2u) << one.report.summary();
+  EXPECT_TRUE(contains(one.report.defects[0].message,
+                       "large_defects.veg:" + std::to_string(line_of_tet[flat]) + ": tet " + std::to_string(flat)))
+      << one.report.defects[0].message;
+  EXPECT_TRUE(contains(one.report.defects[1].message,
+                       "large_defects.veg:" + std::to_string(line_of_tet[outside]) + ": tet " + std::to_string(outside)))
+      << one.report.defects[1].message;
+  for (const unsigned threads : {2u, 3u}) expect_same_read(one, read_tet_mesh(path, threads), path);
+}
+
+TEST(TetLargeFiles, UnreadableRecordsAreReportedAsOnOneThread) {
+  const TetMesh grid = make_grid_background({{0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}}, 17);
+  ASSERT_GT(grid.tets.size(), 20000u);
+  std::vector<std::size_t> line_of_tet;
+  const std::string text = decorated_veg(grid, line_of_tet, 4);
+  const auto replace_line = [&](std::size_t line, const std::string& with) {
+    std::size_t begin = 0;
+    for (std::size_t l = 1; l < line; ++l) begin = text.find('\n', begin) + 1;
+    return text.substr(0, begin) + with + text.substr(text.find('\n', begin));
+  };
+  struct Case {
+    std::string name, text, expected;
+  };
+  const std::vector<Case> cases = {
+      {"bad_tet.veg", replace_line(line_of_tet[15000], "15001 1 2 x 4"),
+       "bad_tet.veg:" + std::to_string(line_of_tet[15000]) + ": expected tet 15000"},
+      {"missing_corner.veg", replace_line(line_of_tet[20000], "20001 1 2 3"),
+       "missing_corner.veg:" + std::to_string(line_of_tet[20000]) + ": expected tet 20000"},
+      {"short.veg", text.substr(0, text.find('\n', text.find("*ELEMENTS")) + 1) + "TET\n30000 4 0\n1 1 2 3 4\n",
+       "after 1 of the 30000 tets"},
+      // One tet short: '*MATERIAL' is read where the last tet should be.
+      {"missing_tet.veg", replace_line(line_of_tet.back(), ""), "expected tet " + std::to_string(grid.tets.size() - 1)},
+  };
+  for (const Case& c : cases) {
+    const std::string path = write_temp(c.name, c.text);
+    const TetReadResult one = read_tet_mesh(path, 1);
+    const Defect& d = only_defect(one.report);
+    EXPECT_EQ(d.kind, DefectKind::Unreadable) << c.name;
+    EXPECT_TRUE(contains(d.message, c.expected)) << c.name << ": " << d.message;
+    for (const unsigned threads : {2u, 3u}) expect_same_read(one, read_tet_mesh(path, threads), c.name);
+  }
+  // A vertex out of sequence in the middle of the vertex section (its record is the first line
+  // starting with "4500" and a separator).
+  std::string misnumbered = text;
+  const std::size_t where = std::min(misnumbered.find("\n4500,"), misnumbered.find("\n4500 ")) + 1;
+  ASSERT_LT(where, misnumbered.find("*ELEMENTS"));
+  misnumbered[where + 3] = '1';  // 4500 -> 4501
+  const std::size_t line = static_cast<std::size_t>(std::count(misnumbered.begin(), misnumbered.begin() + static_cast<long>(where), '\n')) + 1;
+  const std::string path = write_temp("misnumbered.veg", misnumbered);
+  const TetReadResult one = read_tet_mesh(path, 1);
+  const Defect& d = only_defect(one.report);
+  EXPECT_TRUE(contains(d.message, "misnumbered.veg:" + std::to_string(line) + ": expected vertex 4500")) << d.message;
+  for (const unsigned threads : {2u, 3u}) expect_same_read(one, read_tet_mesh(path, threads), "misnumbered.veg");
+}
+
+TEST(TetLargeFiles, TetGenRegionsReadOnSeveralThreadsAsOnOne) {
+  TetMesh grid = make_grid_background({{0.0, 0.0, 0.0}, {1.0, 1.1, 1.2}}, 17);
+  ASSERT_GT(grid.vertices.size(), 5000u);
+  ASSERT_GT(grid.tets.size(), 20000u);
+  grid.reference.resize(grid.tets.size());
+  for (std::size_t t = 0; t < grid.tets.size(); ++t) grid.reference[t] = static_cast<int>(t % 7) - 2;
+  const TetGenTexts texts = format_tetgen(grid);
+  write_temp("large.node", texts.node);
+  const std::string ele = write_temp("large.ele", texts.ele);
+  const TetReadResult one = read_tet_mesh(ele, 1);
+  ASSERT_TRUE(one.report.ok()) << one.report.summary();
+  EXPECT_EQ(one.mesh.reference, grid.reference);
+  for (const unsigned threads : {2u, 3u}) expect_same_read(one, read_tet_mesh(ele, threads), ele);
 }
 
 // ---- writers
