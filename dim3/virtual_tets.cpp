@@ -201,9 +201,13 @@ class VirtualTets {
     for (const auto* v : {&out_.first, &out_.element, &trace_first_}) advise_huge_pages(*v);
     advise_huge_pages(out_.region);
     // Tets are independent: blocks of them run on the threads, and are merged in tet order so
-    // that the result does not depend on the thread count.
+    // that the result does not depend on the thread count. Each block is merged while the next
+    // one runs (the merge is the first item of the next block's loop, on one thread; the merge
+    // writes only the outputs, which no tet reads): merged between the blocks, its serial part
+    // left the other threads idle.
     constexpr std::size_t kBlock = 4096;
-    std::vector<TetOut> block(std::min(kBlock, candidate_tets.size()));
+    std::array<std::vector<TetOut>, 2> blocks;  // block k in blocks[k % 2]
+    for (auto& b : blocks) b.resize(std::min(kBlock, candidate_tets.size()));
     // Each worker's polygons, a cache line of their own: the vectors' headers are read and
     // written for every polygon, and two workers' headers on one line cost ~10 % of the
     // clipping's CPU on two threads (false sharing; BENCHMARKS.md, "Thread pool").
@@ -215,38 +219,18 @@ class VirtualTets {
     std::atomic<std::size_t> exact_tets{0};
     std::vector<double> exact_seconds(threads_, 0.0);  // per worker
     std::uint32_t next_tet = 0;  // tets before it are merged
-    for (std::size_t first = 0; first < candidate_tets.size(); first += kBlock) {
-      const std::size_t count = std::min(kBlock, candidate_tets.size() - first);
-      const auto run_tet = [&](std::size_t i, unsigned worker) {
-        const std::uint32_t t = candidate_tets[first + i];
-        block[i].clear();
-        if (interval_filter_) {
-          try {
-            const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
-            process_tet<IK>(t, cand_first_[t], cand_first_[t + 1], block[i], scratch[worker].interval);
-            return;
-          } catch (const CGAL::Uncertain_conversion_exception&) {
-          }
-        }
-        block[i].clear();
-        ++exact_tets;
-        const double exact_start = thread_cpu_seconds();
-        process_tet<EK>(t, cand_first_[t], cand_first_[t + 1], block[i], scratch[worker].exact);
-        exact_seconds[worker] += thread_cpu_seconds() - exact_start;
-      };
-      parallel_for(threads_, count, [&](std::size_t i, unsigned worker) {
-        try {
-          run_tet(i, worker);
-        } catch (...) {
-          block[i].error = std::current_exception();  // rethrown by merge, so the first tet's wins
-        }
-      }, /*grain=*/16);
-      // The first tet of the block that stops the run (a non-generic contact, or an error, which
-      // is rethrown): the tets before it are merged, as one by one in tet order.
+    const std::size_t block_count = (candidate_tets.size() + kBlock - 1) / kBlock;
+    const auto block_size = [&](std::size_t k) { return std::min(kBlock, candidate_tets.size() - k * kBlock); };
+    // Merges block k up to the first tet that stops the run (a non-generic contact, or an
+    // error, which is rethrown): the tets before it are merged, as one by one in tet order.
+    // @return that tet's index in the block, or the block's size
+    const auto merge = [&](std::size_t k) {
+      std::vector<TetOut>& block = blocks[k % 2];
+      const std::size_t count = block_size(k);
       std::size_t stop = 0;
       while (stop < count && !block[stop].defect && !block[stop].error) ++stop;
-      merge_block(candidate_tets.data() + first, block, stop, next_tet);
-      if (first == 0 && stop == count && count < candidate_tets.size()) {
+      merge_block(candidate_tets.data() + k * kBlock, block, stop, next_tet);
+      if (k == 0 && stop == count && count < candidate_tets.size()) {
         // The arrays whose sizes only the tets know, reserved from the first block's share
         // (with room to spare: reserving touches no page): grown by doubling they were copied
         // and faulted in again on the calling thread, a third of the merge's serial time.
@@ -262,8 +246,45 @@ class VirtualTets {
         advise_huge_pages(traces_);
         advise_huge_pages(out_.embedded);
       }
-      if (stop < count) {
-        TetOut& o = block[stop];
+      return stop;
+    };
+    for (std::size_t k = 0; k <= block_count; ++k) {
+      // Block k runs (none after the last), and block k - 1 is merged, as item 0.
+      const std::size_t count = k < block_count ? block_size(k) : 0;
+      const std::size_t merged = k > 0 ? 1 : 0;
+      std::vector<TetOut>& block = blocks[k % 2];
+      const std::uint32_t* tets = k < block_count ? candidate_tets.data() + k * kBlock : nullptr;
+      const auto run_tet = [&](std::size_t i, unsigned worker) {
+        const std::uint32_t t = tets[i];
+        block[i].clear();
+        if (interval_filter_) {
+          try {
+            const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
+            process_tet<IK>(t, cand_first_[t], cand_first_[t + 1], block[i], scratch[worker].interval);
+            return;
+          } catch (const CGAL::Uncertain_conversion_exception&) {
+          }
+        }
+        block[i].clear();
+        ++exact_tets;
+        const double exact_start = thread_cpu_seconds();
+        process_tet<EK>(t, cand_first_[t], cand_first_[t + 1], block[i], scratch[worker].exact);
+        exact_seconds[worker] += thread_cpu_seconds() - exact_start;
+      };
+      std::size_t stop = kBlock;  // of block k - 1
+      parallel_for(threads_, merged + count, [&](std::size_t i, unsigned worker) {
+        if (i < merged) {
+          stop = merge(k - 1);
+          return;
+        }
+        try {
+          run_tet(i - merged, worker);
+        } catch (...) {
+          block[i - merged].error = std::current_exception();  // rethrown by merge, so the first tet's wins
+        }
+      }, /*grain=*/16);
+      if (k > 0 && stop < block_size(k - 1)) {
+        TetOut& o = blocks[(k - 1) % 2][stop];
         if (!o.defect) std::rethrow_exception(o.error);
         non_generic_ = true;
         report_.add(std::move(*o.defect));
