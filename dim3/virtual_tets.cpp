@@ -206,8 +206,11 @@ class VirtualTets {
     // writes only the outputs, which no tet reads): merged between the blocks, its serial part
     // left the other threads idle.
     constexpr std::size_t kBlock = 4096;
-    std::array<std::vector<TetOut>, 2> blocks;  // block k in blocks[k % 2]
-    for (auto& b : blocks) b.resize(std::min(kBlock, candidate_tets.size()));
+    // Block k in blocks[k % 2]; on one thread the merge of block k - 1 runs before block k's
+    // tets, so one buffer does (its pages and cache lines are not doubled).
+    const std::size_t buffers = threads_ > 1 ? 2 : 1;
+    std::array<std::vector<TetOut>, 2> blocks;
+    for (std::size_t b = 0; b < buffers; ++b) blocks[b].resize(std::min(kBlock, candidate_tets.size()));
     // Each worker's polygons, a cache line of their own: the vectors' headers are read and
     // written for every polygon, and two workers' headers on one line cost ~10 % of the
     // clipping's CPU on two threads (false sharing; BENCHMARKS.md, "Thread pool").
@@ -225,7 +228,7 @@ class VirtualTets {
     // error, which is rethrown): the tets before it are merged, as one by one in tet order.
     // @return that tet's index in the block, or the block's size
     const auto merge = [&](std::size_t k) {
-      std::vector<TetOut>& block = blocks[k % 2];
+      std::vector<TetOut>& block = blocks[k % buffers];
       const std::size_t count = block_size(k);
       std::size_t stop = 0;
       while (stop < count && !block[stop].defect && !block[stop].error) ++stop;
@@ -252,7 +255,7 @@ class VirtualTets {
       // Block k runs (none after the last), and block k - 1 is merged, as item 0.
       const std::size_t count = k < block_count ? block_size(k) : 0;
       const std::size_t merged = k > 0 ? 1 : 0;
-      std::vector<TetOut>& block = blocks[k % 2];
+      std::vector<TetOut>& block = blocks[k % buffers];
       const std::uint32_t* tets = k < block_count ? candidate_tets.data() + k * kBlock : nullptr;
       const auto run_tet = [&](std::size_t i, unsigned worker) {
         const std::uint32_t t = tets[i];
@@ -272,11 +275,16 @@ class VirtualTets {
         exact_seconds[worker] += thread_cpu_seconds() - exact_start;
       };
       std::size_t stop = kBlock;  // of block k - 1
+      // Set when block k - 1 stops the run: block k's tets are then skipped (on one thread, where
+      // the merge runs first and the blocks share a buffer, they would overwrite the stopping tet).
+      std::atomic<bool> stopped{false};
       parallel_for(threads_, merged + count, [&](std::size_t i, unsigned worker) {
         if (i < merged) {
           stop = merge(k - 1);
+          if (stop < block_size(k - 1)) stopped = true;
           return;
         }
+        if (stopped.load(std::memory_order_relaxed)) return;
         try {
           run_tet(i - merged, worker);
         } catch (...) {
@@ -284,7 +292,7 @@ class VirtualTets {
         }
       }, /*grain=*/16);
       if (k > 0 && stop < block_size(k - 1)) {
-        TetOut& o = blocks[(k - 1) % 2][stop];
+        TetOut& o = blocks[(k - 1) % buffers][stop];
         if (!o.defect) std::rethrow_exception(o.error);
         non_generic_ = true;
         report_.add(std::move(*o.defect));

@@ -189,43 +189,59 @@ TEST(VirtualTets, BackgroundTouchingTheInputIsMeshedUnderAnExplicitTranslation) 
   }
 }
 
-// The cut tets run in blocks, each merged while the next one runs: a contact found only in late
-// blocks must lead to the translated input as one in the first block does, with the same mesh on
-// every thread count. The box's face x = 1 lies on a lattice plane, and the background's tets are
-// sorted by x, so that the tets touching it come after the blocks of the other faces' cut tets.
-// (Merging a block past its contact is not visible here: the face pairing would then find the
-// contact; the test pins the outcome, not which stage stops.)
-TEST(VirtualTets, ContactInALateBlockIsResolvedLikeAnEarlyOne) {
-  const Surface box = box_surface(Box3{{0.0100001, 0.0100001, 0.0100001}, {1.0, 0.9700001, 0.9700001}});
+// The cut tets run in blocks, each merged while the next one runs (on one thread in one buffer):
+// a contact found only in a middle block must stop the run there and lead to the translated input
+// as one in the first block does, with the same mesh on every thread count. The box's face x = 1
+// lies on a lattice plane; the background's tets are sorted by x, except that those beyond
+// x = 0.9 come at x = 0.5, so that the tets touching that face come after blocks of the other
+// faces' cut tets and before more of them.
+TEST(VirtualTets, ContactInAMiddleBlockIsResolvedLikeAnEarlyOne) {
+  // No two coordinates of a corner differ by a multiple of 1/32 (the Kuhn tets' diagonal planes).
+  const Surface box = box_surface(Box3{{0.0100001, 0.0200003, 0.0300007}, {1.0, 0.9700001, 0.9500003}});
   const Prepared p = prepare(box);
   const TetMesh grid = aligned_grid(-0.125, 1.0 / 32, 40);  // lattice planes at -0.125 + k / 32
   std::vector<double> x(grid.tets.size(), 0.0);
-  for (std::size_t t = 0; t < grid.tets.size(); ++t)
-    for (int k = 0; k < 4; ++k) x[t] += grid.vertices[static_cast<std::size_t>(grid.tets[t][k])][0];
+  for (std::size_t t = 0; t < grid.tets.size(); ++t) {
+    for (int k = 0; k < 4; ++k) x[t] += 0.25 * grid.vertices[static_cast<std::size_t>(grid.tets[t][k])][0];
+    if (x[t] > 0.9) x[t] = 0.5;
+  }
   std::vector<std::size_t> order(grid.tets.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return x[a] < x[b]; });
   TetMesh sorted;
   sorted.vertices = grid.vertices;
   for (const std::size_t t : order) sorted.tets.push_back(grid.tets[t]);
-  // Every tet with a corner on the plane x = 1 comes in the last fifth of the order.
-  for (std::size_t i = 0; i < sorted.tets.size() * 4 / 5; ++i)
-    for (int k = 0; k < 4; ++k) ASSERT_LT(sorted.vertices[static_cast<std::size_t>(sorted.tets[i][k])][0], 1.0);
+  // Every tet with a corner on the plane x = 1 comes after the first third and before the last
+  // quarter of the order.
+  for (std::size_t i = 0; i < sorted.tets.size(); ++i)
+    for (int k = 0; k < 4; ++k)
+      if (sorted.vertices[static_cast<std::size_t>(sorted.tets[i][k])][0] == 1.0) {
+        ASSERT_GT(i, sorted.tets.size() / 3);
+        ASSERT_LT(i, sorted.tets.size() * 3 / 4);
+      }
   const std::string path = testing::TempDir() + "/late_contact_grid.veg";
   {
     std::ofstream out(path);
     out << format_veg(sorted);
   }
+  // The progress log names the contact that stopped each attempt: the first in tet order.
+  std::vector<std::string> log;
   MeshOptions options;
   options.background_path = path;
+  options.progress = [&log](const std::string& message) { log.push_back(message); };
   options.threads = 1;
   const MeshResult one = mesh(p, options);
+  const std::vector<std::string> one_log = log;
   ASSERT_TRUE(one.report.ok()) << one.report.summary();
   EXPECT_GE(one.stats.attempts, 2);
   EXPECT_GT(one.stats.cut_tets, 3u * 4096u);  // several blocks
+  ASSERT_GE(one_log.size(), 2u);
+  EXPECT_TRUE(one_log[1].find("meets the input non-generically") != std::string::npos) << one_log[1];
   for (const unsigned threads : {2u, 3u}) {
     options.threads = threads;
+    log.clear();
     const MeshResult m = mesh(p, options);
+    EXPECT_EQ(log, one_log) << threads << " threads";
     EXPECT_EQ(m.stats.attempts, one.stats.attempts) << threads << " threads";
     EXPECT_EQ(m.stats.input_shift, one.stats.input_shift) << threads << " threads";
     EXPECT_EQ(fingerprint(m), fingerprint(one)) << threads << " threads";
