@@ -30,6 +30,11 @@
 //                                 (ns_*), process CPU seconds, peak RSS (MB; the process's peak,
 //                                 so run one size per process with --benchmark_filter) and bytes
 //                                 of peak RSS per background and per output tet.
+//  BM_Mesh3_TwoThreadRatio_*/rounds  the quintuple torus on its .veg, and two_tori(160) at
+//                                 resolution 125: rounds of 1 then 2 threads, interleaved in one
+//                                 process (issue 17's "two threads >= 1.8x one thread"). Counters:
+//                                 medians, minima and three ratios (of the medians, per round, of
+//                                 the minima).
 // Inputs (surface, complex with volumes in doubles, first immersion) are built outside the timed
 // loop. Every family uses real (wall) time, since the exact stage may run on several threads.
 #include <benchmark/benchmark.h>
@@ -39,6 +44,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -470,6 +476,89 @@ void BM_Mesh3_Scale(benchmark::State& state) {
 BENCHMARK(BM_Mesh3_Scale)
     ->ArgNames({"threads", "resolution"})
     ->ArgsProduct({{1, 2}, {64, 125, 160, 200}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// ---- the two-thread speed-up, measured interleaved (issue 17) ---------------------------------
+
+/// Rounds of one mesh_immersion on 1 thread, then one on 2, in one process: a change of the
+/// host's speed during the run falls on both thread counts, where sequential repetitions of the
+/// families above put it on one of them. The mesh stage's wall per call (the .veg read included
+/// when `options.background_path` is set). Counters: medians and minima of each, the ratio of the
+/// medians, the median of the per-round ratios and the ratio of the minima (host noise only adds
+/// time, and adds more to a two-thread call, which needs both vCPUs).
+void run_thread_ratio(benchmark::State& state, const Mesh3Input& input, dim3::MeshOptions options) {
+  const auto rounds = static_cast<std::size_t>(state.range(0));
+  std::vector<double> one, two, paired;
+  std::string error;
+  const auto timed = [&](unsigned threads) {
+    options.threads = threads;
+    const auto start = std::chrono::steady_clock::now();
+    dim3::MeshResult r = dim3::mesh_immersion(input.complex(), input.immersion(), options, input.immersed.input_vertices);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (!r.report.ok()) error = "meshing failed: " + r.report.summary();
+    benchmark::DoNotOptimize(r.mesh.tets.data());
+    return ms;
+  };
+  for (auto _ : state) {
+    for (std::size_t k = 0; k < rounds && error.empty(); ++k) {
+      one.push_back(timed(1));
+      two.push_back(timed(2));
+      paired.push_back(one.back() / two.back());
+    }
+  }
+  if (!error.empty()) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  const auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  };
+  const double min_one = *std::min_element(one.begin(), one.end());
+  const double min_two = *std::min_element(two.begin(), two.end());
+  state.counters["ms_1_median"] = median(one);
+  state.counters["ms_2_median"] = median(two);
+  state.counters["ms_1_min"] = min_one;
+  state.counters["ms_2_min"] = min_two;
+  state.counters["ratio_of_medians"] = median(one) / median(two);
+  state.counters["ratio_paired_median"] = median(paired);
+  state.counters["ratio_of_minima"] = min_one / min_two;
+}
+
+void BM_Mesh3_TwoThreadRatio_QuintupleTorusVeg(benchmark::State& state) {
+  std::string error;
+  const std::optional<Mesh3Input>& input = quintuple_input(error);
+  if (!input) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  dim3::MeshOptions options;
+  options.background_path = shared_path(kQuintupleVeg);
+  run_thread_ratio(state, *input, options);
+}
+BENCHMARK(BM_Mesh3_TwoThreadRatio_QuintupleTorusVeg)
+    ->ArgName("rounds")
+    ->Arg(15)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+void BM_Mesh3_TwoThreadRatio_TwoTori(benchmark::State& state) {
+  static std::string error;
+  static const std::optional<Mesh3Input> input = prepare(dim3::two_tori(160), error);
+  if (!input) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  dim3::MeshOptions options;
+  options.resolution = 125;  // 2,532,864 background tets
+  run_thread_ratio(state, *input, options);
+}
+BENCHMARK(BM_Mesh3_TwoThreadRatio_TwoTori)
+    ->ArgName("rounds")
+    ->Arg(5)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
