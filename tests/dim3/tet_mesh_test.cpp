@@ -473,13 +473,21 @@ TEST(TetLargeFiles, ReadOnSeveralThreadsAsOnOne) {
   ASSERT_GT(grid.tets.size(), 20000u);
   for (const unsigned seed : {1u, 2u}) {
     std::vector<std::size_t> line_of_tet;
-    std::string text = decorated_veg(grid, line_of_tet, seed);
+    const std::string text = decorated_veg(grid, line_of_tet, seed);
     const std::string path = write_temp("large" + std::to_string(seed) + ".veg", text);
     const TetReadResult one = read_tet_mesh(path, 1);
     ASSERT_TRUE(one.report.ok()) << one.report.summary();
     EXPECT_EQ(one.mesh.vertices, grid.vertices);
     EXPECT_EQ(one.mesh.tets, grid.tets);
     for (const unsigned threads : {2u, 3u, 8u}) expect_same_read(one, read_tet_mesh(path, threads), path);
+    // The same file with Windows line ends.
+    std::string crlf;
+    for (const char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    const std::string crlf_path = write_temp("large_crlf" + std::to_string(seed) + ".veg", crlf);
+    const TetReadResult crlf_one = read_tet_mesh(crlf_path, 1);
+    ASSERT_TRUE(crlf_one.report.ok()) << crlf_one.report.summary();
+    EXPECT_EQ(crlf_one.mesh.vertices, grid.vertices);
+    expect_same_read(crlf_one, read_tet_mesh(crlf_path, 3), crlf_path);
   }
 
   // Defects late in the file: a zero-volume tet and one out of range, named at their lines.
