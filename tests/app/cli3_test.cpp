@@ -12,10 +12,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -24,6 +26,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <variant>
 #include <vector>
 
@@ -250,6 +253,26 @@ TEST_F(Cli3Test, ValidSurfacesExitWithZero) {
   EXPECT_TRUE(std::regex_search(
       two.output, std::regex("immerse: 3 cells, 4 patches, 1 arc \\| read [0-9.]+ ms, complex")))
       << two.output;
+}
+
+// --threads 1 runs the whole program on one thread, the cell complex included (it once ran on
+// every core whatever --threads said): the process's CPU time then cannot exceed its wall time.
+// On two free cores this input's complex on all threads takes ~50 ms more CPU than wall; a busy
+// machine can hide that, never make a one-thread run fail.
+TEST_F(Cli3Test, ThreadsOneRunsTheComplexOnOneThread) {
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one hardware thread";
+  ASSERT_EQ(run("generate quintuple-torus 40 -o qt.obj").code, 0);
+  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  rusage before{}, after{};
+  getrusage(RUSAGE_CHILDREN, &before);
+  const auto start = std::chrono::steady_clock::now();
+  const Outcome r = run("mesh qt.obj --resolution 2 --threads 1 -o qt.mesh");
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  getrusage(RUSAGE_CHILDREN, &after);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const double cpu = seconds(after.ru_utime) - seconds(before.ru_utime) + seconds(after.ru_stime) - seconds(before.ru_stime);
+  EXPECT_GT(cpu, 0.05) << "the run is long enough to tell";
+  EXPECT_LE(cpu, wall + 0.005) << "CPU " << cpu << " s in " << wall << " s of wall time on --threads 1";
 }
 
 TEST_F(Cli3Test, ExhaustedSearchBudgetExitsWithThree) {
