@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -93,7 +94,8 @@ class WorkerPool {
       const std::lock_guard<std::mutex> lock(mutex_);
       while (threads_.size() + 1 < workers) {
         const auto id = static_cast<unsigned>(threads_.size() + 1);
-        threads_.emplace_back([this, id] { serve(id); });
+        wakes_.push_back(std::make_unique<std::condition_variable>());
+        threads_.emplace_back([this, id, wake = wakes_.back().get()] { serve(id, *wake); });
       }
       task_ = task;
       context_ = context;
@@ -102,7 +104,8 @@ class WorkerPool {
       pending_ = workers - 1;
       ++generation_;
     }
-    wake_.notify_all();
+    // Only this loop's threads: after a loop on many threads, the others sleep on.
+    for (unsigned w = 1; w < workers; ++w) wakes_[w - 1]->notify_one();
     inside() = true;
     task(context, 0);
     inside() = false;
@@ -114,14 +117,14 @@ class WorkerPool {
  private:
   WorkerPool() = default;
 
-  void serve(unsigned id) {
+  void serve(unsigned id, std::condition_variable& wake) {
     inside() = true;
-    std::uint64_t seen = 0;
+    std::uint64_t served = 0;
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
-      wake_.wait(lock, [&] { return generation_ != seen; });
-      seen = generation_;
-      if (id >= participants_) continue;  // not needed by this loop
+      // A loop not served yet that needs this thread (the loops it is not part of pass it by).
+      wake.wait(lock, [&] { return generation_ != served && id < participants_; });
+      served = generation_;
       const Task task = task_;
       void* const context = context_;
       std::fesetenv(&environment_);
@@ -135,7 +138,8 @@ class WorkerPool {
   const pid_t owner_ = ::getpid();  ///< the process whose threads these are
   std::mutex run_mutex_;  ///< held by the thread whose loop runs on the pool
   std::mutex mutex_;      ///< guards everything below
-  std::condition_variable wake_, done_;
+  std::condition_variable done_;
+  std::vector<std::unique_ptr<std::condition_variable>> wakes_;  ///< thread k - 1's, woken for its loops
   std::vector<std::thread> threads_;  ///< thread k - 1 is worker k
   std::uint64_t generation_ = 0;      ///< loops started so far
   Task task_ = nullptr;
