@@ -1,5 +1,6 @@
 // The tet-mesh layer: readers of Vega .veg, Medit .mesh and TetGen .node/.ele on small
-// hand-written files, every defect class with its kind and message, reorientation, round trips of
+// hand-written files, every defect class with its kind and message, large files read on several
+// threads as on one (decorated text, line numbers, defects, CRLF), reorientation, round trips of
 // the three writers (the .vtu one through a small XML reader written here, since read_tet_mesh
 // does not take .vtu), the Kuhn grid background (exact orientation, conformity, exact volume,
 // coverage) and the Vega background meshes of ../shared/data/real/tet with the counts of
@@ -407,8 +408,8 @@ TEST(TetDefects, UnreadableFilesNameFileAndLine) {
 // ---- large files, read on several threads
 // -------------------------------------------------------------------------
 
-/// A Vega text of `mesh` decorated the ways a file may be: comment lines, blank lines, commas,
-/// trailing comments and attributes; `line_of_tet[t]` is the line (1-based) of tet t's record,
+/// A Vega text of `mesh` decorated the ways a file may be: comment lines, blank lines, lines of
+/// separators only, commas, trailing comments; `line_of_tet[t]` is the line (1-based) of tet t's record,
 /// counted here as the text is written, independently of the reader.
 std::string decorated_veg(const TetMesh& mesh, std::vector<std::size_t>& line_of_tet, unsigned seed) {
   std::mt19937 random(seed);
