@@ -10,6 +10,9 @@
 // (CGAL Epick's orientation is exact on doubles), so that downstream code can rely on
 // det(v1 - v0, v2 - v0, v3 - v0) > 0 without ever looking at a tolerance.
 //
+// Large Vega and TetGen sections are parsed on several threads, chunk by chunk of lines, with the
+// same result and messages as one record at a time (read_records_in_parallel).
+//
 // A parse error (Unreadable) stops the reading of that file: later lines of a broken file would
 // only produce follow-up errors. Tets that are defective (bad index, non-finite or zero volume)
 // are left out of `mesh.tets`; the defect names them by their file order.
