@@ -178,15 +178,23 @@ std::pair<double, double> process_cpu_and_peak() {
 
 // ---- the quintuple torus on its .veg -----------------------------------------------------------
 
-void BM_Mesh3_QuintupleTorusVeg(benchmark::State& state) {
+/// The quintuple torus, with `options` set to mesh it on its .veg; null (the benchmark skipped)
+/// when ../shared is absent.
+const Mesh3Input* quintuple_on_its_veg(benchmark::State& state, dim3::MeshOptions& options) {
   std::string error;
   const std::optional<Mesh3Input>& input = quintuple_input(error);
   if (!input) {
     state.SkipWithError(error.c_str());
-    return;
+    return nullptr;
   }
-  dim3::MeshOptions options;
   options.background_path = shared_path(kQuintupleVeg);
+  return &*input;
+}
+
+void BM_Mesh3_QuintupleTorusVeg(benchmark::State& state) {
+  dim3::MeshOptions options;
+  const Mesh3Input* input = quintuple_on_its_veg(state, options);
+  if (input == nullptr) return;
   options.threads = static_cast<unsigned>(state.range(0));
   run_mesh(state, *input, options);
 }
@@ -437,13 +445,18 @@ BENCHMARK(BM_Mesh3_SurfaceSize)
 
 // ---- meshing at scale (issue 17) -------------------------------------------------------------
 
-void BM_Mesh3_Scale(benchmark::State& state) {
+/// two_tori(160), built once and shared by the scale and the two-thread families; null (the
+/// benchmark skipped) if it cannot be prepared.
+const Mesh3Input* two_tori_160(benchmark::State& state) {
   static std::string error;
   static const std::optional<Mesh3Input> input = prepare(dim3::two_tori(160), error);
-  if (!input) {
-    state.SkipWithError(error.c_str());
-    return;
-  }
+  if (!input) state.SkipWithError(error.c_str());
+  return input ? &*input : nullptr;
+}
+
+void BM_Mesh3_Scale(benchmark::State& state) {
+  const Mesh3Input* input = two_tori_160(state);
+  if (input == nullptr) return;
   dim3::MeshOptions options;
   options.threads = static_cast<unsigned>(state.range(0));
   options.resolution = static_cast<int>(state.range(1));
@@ -528,15 +541,9 @@ void run_thread_ratio(benchmark::State& state, const Mesh3Input& input, dim3::Me
 }
 
 void BM_Mesh3_TwoThreadRatio_QuintupleTorusVeg(benchmark::State& state) {
-  std::string error;
-  const std::optional<Mesh3Input>& input = quintuple_input(error);
-  if (!input) {
-    state.SkipWithError(error.c_str());
-    return;
-  }
   dim3::MeshOptions options;
-  options.background_path = shared_path(kQuintupleVeg);
-  run_thread_ratio(state, *input, options);
+  const Mesh3Input* input = quintuple_on_its_veg(state, options);
+  if (input != nullptr) run_thread_ratio(state, *input, options);
 }
 BENCHMARK(BM_Mesh3_TwoThreadRatio_QuintupleTorusVeg)
     ->ArgName("rounds")
@@ -546,12 +553,8 @@ BENCHMARK(BM_Mesh3_TwoThreadRatio_QuintupleTorusVeg)
     ->UseRealTime();
 
 void BM_Mesh3_TwoThreadRatio_TwoTori(benchmark::State& state) {
-  static std::string error;
-  static const std::optional<Mesh3Input> input = prepare(dim3::two_tori(160), error);
-  if (!input) {
-    state.SkipWithError(error.c_str());
-    return;
-  }
+  const Mesh3Input* input = two_tori_160(state);
+  if (input == nullptr) return;
   dim3::MeshOptions options;
   options.resolution = 125;  // 2,532,864 background tets
   run_thread_ratio(state, *input, options);
