@@ -291,7 +291,7 @@ class VirtualTets {
           block[i - merged].error = std::current_exception();  // rethrown by merge, so the first tet's wins
         }
       }, /*grain=*/16);
-      if (k > 0 && stop < block_size(k - 1)) {
+      if (stopped) {
         TetOut& o = blocks[(k - 1) % buffers][stop];
         if (!o.defect) std::rethrow_exception(o.error);
         non_generic_ = true;
