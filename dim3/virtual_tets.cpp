@@ -539,7 +539,7 @@ class VirtualTets {
     }
     // Sorted and unique per tet (a wide tet is met once per cell it shares with a triangle's box).
     std::atomic<std::size_t> repeats{0};
-    parallel_blocks(threads_, tet_count, 1 << 14, [&](std::size_t begin_tet, std::size_t end_tet) {
+    parallel_blocks(threads_, tet_count, 1 << 12, [&](std::size_t begin_tet, std::size_t end_tet) {
       std::size_t n = 0;
       for (std::size_t t = begin_tet; t < end_tet; ++t) {
         const auto begin = candidates_.begin() + first[t], end = candidates_.begin() + first[t + 1];
@@ -1065,7 +1065,7 @@ class VirtualTets {
     };
     // Tets around each background vertex (a counting sort on all threads with atomic counters: the
     // order inside a star varies, but the faces at a vertex are sorted before they pair).
-    constexpr std::size_t kTetChunk = 16384;
+    constexpr std::size_t kTetChunk = 4096;
     const std::size_t tet_chunks = (tet_count + kTetChunk - 1) / kTetChunk;
     std::vector<std::uint32_t> star_first(bg_.vertices.size() + 1, 0);
     parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
@@ -1101,7 +1101,7 @@ class VirtualTets {
       std::uint32_t face;       ///< 4 t + f
     };
     const std::size_t vertex_count = bg_.vertices.size();
-    constexpr std::size_t kVertexChunk = 4096;
+    constexpr std::size_t kVertexChunk = 1024;
     parallel_for(threads_, (vertex_count + kVertexChunk - 1) / kVertexChunk, [&](std::size_t chunk, unsigned) {
       std::vector<StarFace> faces;
       for (std::size_t v = chunk * kVertexChunk; v < std::min(vertex_count, (chunk + 1) * kVertexChunk); ++v) {
@@ -1225,7 +1225,7 @@ class VirtualTets {
     };
     // Per chunk of tets: its count, a prefix sum over the chunks (not over the tets: that was a
     // serial pass), then each chunk writes its tets' lists one after the other.
-    constexpr std::size_t kChunk = 8192;
+    constexpr std::size_t kChunk = 2048;
     const std::size_t chunks = (tet_count + kChunk - 1) / kChunk;
     std::vector<std::size_t> chunk_first(chunks + 1, 0);
     parallel_for(threads_, chunks, [&](std::size_t chunk, unsigned) {
