@@ -17,6 +17,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -85,7 +86,10 @@ class WorkerPool {
   /// floating-point environment (rounding mode), and returns when all have returned. The task must
   /// not throw. Returns false, having run nothing, when another thread is running a loop on the
   /// pool, or in a child process forked after the pool started (the child has none of its
-  /// threads: waiting for them would hang, as in a Python multiprocessing worker).
+  /// threads: waiting for them would hang, as in a Python multiprocessing worker). When the system
+  /// refuses a new thread (pthread_create: a process limit, no memory for its stack) the loop
+  /// runs on the threads there are, so `workers` is an upper bound: parallel_for's items are
+  /// taken dynamically, by any number of workers.
   bool try_run(unsigned workers, Task task, void* context) {
     if (::getpid() != owner_) return false;
     std::unique_lock<std::mutex> caller(run_mutex_, std::try_to_lock);
@@ -94,8 +98,18 @@ class WorkerPool {
       const std::lock_guard<std::mutex> lock(mutex_);
       while (threads_.size() + 1 < workers) {
         const auto id = static_cast<unsigned>(threads_.size() + 1);
-        wakes_.push_back(std::make_unique<std::condition_variable>());
-        threads_.emplace_back([this, id, wake = wakes_.back().get()] { serve(id, *wake); });
+        // Thread id's condition variable is wakes_[id - 1]: added only with its thread, so that
+        // a refused thread leaves the two lists in step (it left a stray one, and every later
+        // thread then slept on its neighbour's, a hang).
+        auto wake = std::make_unique<std::condition_variable>();
+        wakes_.reserve(threads_.size() + 1);  // so that its push_back below cannot throw
+        try {
+          threads_.emplace_back([this, id, w = wake.get()] { serve(id, *w); });
+        } catch (const std::system_error&) {
+          workers = static_cast<unsigned>(threads_.size() + 1);
+          break;
+        }
+        wakes_.push_back(std::move(wake));
       }
       task_ = task;
       context_ = context;
@@ -192,7 +206,12 @@ void parallel_for(unsigned threads, std::size_t count, const Body& body, std::si
     };
     std::vector<std::thread> own;
     own.reserve(workers - 1);
-    for (unsigned w = 1; w < workers; ++w) own.emplace_back(inside, w);
+    try {
+      for (unsigned w = 1; w < workers; ++w) own.emplace_back(inside, w);
+    } catch (const std::system_error&) {
+      // A refused thread: the loop runs on those started (the items are taken dynamically);
+      // unwinding past them would destroy joinable threads (std::terminate).
+    }
     inside(0);
     for (std::thread& th : own) th.join();
   }

@@ -2,10 +2,12 @@
 // is worker 0, the pool's threads are kept between loops, nested loops run inline, errors come
 // back to the caller, loops from two outside threads both finish, and bodies run in the caller's
 // rounding mode; a loop that finds the pool busy keeps the caller as worker 0 and its nested loops
-// inline, and a forked child's loops do not wait for the parent's threads.
+// inline, a forked child's loops do not wait for the parent's threads, and a loop runs on the
+// threads there are when the system refuses more.
 #include "core/parallel.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,9 +16,12 @@
 #include <atomic>
 #include <cfenv>
 #include <condition_variable>
+#include <cstdio>
+#include <fstream>
 #include <mutex>
 #include <set>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -155,6 +160,81 @@ TEST(ParallelFor, AForkedChildsLoopsRunWithoutTheParentsThreads) {
   ASSERT_EQ(::waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFEXITED(status)) << "the child's loop hung or crashed (signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0) << ")";
   EXPECT_EQ(WEXITSTATUS(status), 0);
+}
+
+// The address space limited to what the process maps now plus 1 MB: no thread stack (8 MB) fits,
+// so pthread_create fails, as on a machine out of memory or at a process's thread limit.
+// @return the limit before
+rlimit refuse_new_threads() {
+  long pages = 0;
+  std::ifstream("/proc/self/statm") >> pages;
+  rlimit old{};
+  ::getrlimit(RLIMIT_AS, &old);
+  rlimit low = old;
+  low.rlim_cur = static_cast<rlim_t>(pages) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE)) + (1 << 20);
+  ::setrlimit(RLIMIT_AS, &low);
+  try {
+    std::thread t([] {});
+    t.join();
+    std::fprintf(stderr, "the limit did not refuse a thread\n");
+    ::_exit(3);
+  } catch (const std::system_error&) {
+  }
+  return old;
+}
+
+bool every_item_once(unsigned threads, std::size_t count) {
+  std::vector<int> visits(count, 0);
+  parallel_for(threads, count, [&](std::size_t i, unsigned) { std::atomic_ref<int>(visits[i]).fetch_add(1); }, 1);
+  return std::all_of(visits.begin(), visits.end(), [](int v) { return v == 1; });
+}
+
+// In a fresh process (the pool not started yet): a loop on more threads than the system gives
+// runs on those there are, and the pool stays usable. A refused thread once left the pool's
+// wake-up list one entry ahead of its threads, and the second later loop that needed a new
+// thread waited forever for it.
+[[noreturn]] void refused_thread_on_the_pool() {
+  ::alarm(20);  // a hang ends as SIGALRM
+  if (!every_item_once(2, 1000)) ::_exit(1);
+  const rlimit old = refuse_new_threads();
+  bool ok = false;
+  try {
+    ok = every_item_once(4, 1000);
+  } catch (const std::system_error&) {  // what it did before; the loops below must still run
+  }
+  ::setrlimit(RLIMIT_AS, &old);
+  for (int loop = 0; loop < 3; ++loop) {
+    const LoopRun r = run(3, 300);
+    if (r.ids.size() != 3 || !std::all_of(r.visits.begin(), r.visits.end(), [](int v) { return v == 1; })) ::_exit(5);
+  }
+  ::_exit(ok ? 0 : 4);
+}
+
+// While another thread's loop holds the pool, a loop starts threads of its own: when the system
+// refuses them, the loop runs on the calling thread (it threw, or with one thread started,
+// destroyed it joinable: std::terminate).
+[[noreturn]] void refused_thread_beside_a_busy_pool() {
+  ::alarm(20);
+  std::atomic<bool> holding{false}, release{false};
+  std::thread holder([&] {
+    parallel_for(2, 2, [&](std::size_t, unsigned) {
+      holding = true;
+      while (!release) std::this_thread::yield();
+    }, 1);
+  });
+  while (!holding) std::this_thread::yield();
+  const rlimit old = refuse_new_threads();
+  const bool ok = every_item_once(4, 1000);
+  ::setrlimit(RLIMIT_AS, &old);
+  release = true;
+  holder.join();
+  ::_exit(ok ? 0 : 4);
+}
+
+TEST(ParallelForDeathTest, ALoopRunsOnTheThreadsThereAreWhenTheSystemRefusesMore) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");  // a fresh process: the pool starts in it
+  EXPECT_EXIT(refused_thread_on_the_pool(), ::testing::ExitedWithCode(0), "");
+  EXPECT_EXIT(refused_thread_beside_a_busy_pool(), ::testing::ExitedWithCode(0), "");
 }
 
 // Many tiny loops back to back, on a pool that grows and shrinks between them: every loop ends
