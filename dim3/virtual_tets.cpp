@@ -371,13 +371,16 @@ class VirtualTets {
 
   /// (tet, cut triangle) pairs whose boxes overlap, sorted. Triangle boxes come from the interval
   /// approximations of the exact points (they contain the exact points): a conservative filter.
-  /// The tets are binned in a uniform grid of cells about one tet across (a background mesh is
-  /// roughly uniform; CGAL's box_intersection_d, tried first, cost as much as the clipping): a
-  /// tet no wider than a cell goes into the one cell holding its box's low corner, a wider one
-  /// into every cell its box overlaps. Each triangle visits the cells its box overlaps, widened
-  /// by one cell downwards (where the low corners of the narrow tets that can overlap it lie),
-  /// and keeps the tets whose boxes overlap its own. Triangles are split among the threads; the
-  /// pairs are sorted and made unique at the end. The binning is the only per-tet work here.
+  /// The tets are binned in a hierarchy of uniform grids (CGAL's box_intersection_d, tried first,
+  /// cost as much as the clipping): level 0's cells are about one tet across, each next level's
+  /// twice as wide, up to one cell wider than the whole background. A tet goes into the one cell
+  /// holding its box's low corner, on the finest level whose cells are at least as wide as its
+  /// box: one entry per tet, however graded the background (a wide tet copied into every fine cell
+  /// it overlaps made 36 entries per tet on a strongly graded one, and could overflow 32-bit
+  /// offsets). Each triangle visits, on every level that holds tets, the cells its box overlaps,
+  /// widened by that level's cell downwards (where the low corners of the tets that can overlap it
+  /// lie), and keeps the tets whose boxes overlap its own. Triangles are split among the threads;
+  /// each pair is found once. The binning is the only per-tet work here.
   void find_candidates() {
     const std::size_t tet_count = bg_.tets.size();
     cand_first_.assign(tet_count + 1, 0);
@@ -408,68 +411,79 @@ class VirtualTets {
         extent += slice_extent[k];
       }
     }
-    // Cells of about the mean tet extent (a little more, so that a uniform grid's tets are all
-    // narrow), at most ~8 per tet overall.
+    // Level 0's cells: about the mean tet extent (a little more, so that a uniform grid's tets
+    // are all on level 0), at most ~8 per tet and 2^30 in all; the levels above add at most as
+    // many again (a flat background halves only two of the counts per level), so every cell id
+    // fits 32 bits below kNone.
     double cell = 1.01 * extent / static_cast<double>(tet_count);
     const double span[3] = {all.xmax() - all.xmin(), all.ymax() - all.ymin(), all.zmax() - all.zmin()};
-    const double budget = 8.0 * static_cast<double>(tet_count);
+    const double budget = std::min(8.0 * static_cast<double>(tet_count), std::ldexp(1.0, 30));
     if (!(cell > 0.0)) cell = 1.0;
     while ((span[0] / cell + 1) * (span[1] / cell + 1) * (span[2] / cell + 1) > budget) cell *= 1.25;
-    std::array<std::size_t, 3> dims{};
-    for (int d = 0; d < 3; ++d) dims[d] = static_cast<std::size_t>(span[d] / cell) + 1;
     const double lo[3] = {all.xmin(), all.ymin(), all.zmin()};
-    const auto index = [&](double x, int d) {
-      const double i = std::floor((x - lo[d]) / cell);
-      return static_cast<std::size_t>(std::clamp(i, 0.0, static_cast<double>(dims[d] - 1)));
+    // A tet's box is inside `all` (its extent is at most the span, in doubles too: rounding is
+    // monotone), so the first level whose cells are as wide as the widest span takes every tet.
+    struct Level {
+      double cell;
+      std::array<std::size_t, 3> dims;
+      std::size_t offset;  ///< of its first cell among all levels' cells
     };
-    const auto cell_range = [&](const CGAL::Bbox_3& b, std::array<std::size_t, 3>& from, std::array<std::size_t, 3>& to) {
-      for (int d = 0; d < 3; ++d) {
-        from[d] = index(b.min(d), d);
-        to[d] = index(b.max(d), d);
-      }
+    std::vector<Level> levels;
+    std::size_t cells = 0;
+    for (double c = cell;; c *= 2) {
+      Level level{c, {}, cells};
+      for (int d = 0; d < 3; ++d) level.dims[d] = static_cast<std::size_t>(span[d] / c) + 1;
+      cells += level.dims[0] * level.dims[1] * level.dims[2];
+      levels.push_back(level);
+      if (c >= std::max({span[0], span[1], span[2]})) break;
+    }
+    IMM_ASSERT(cells < kNone, "too many grid cells for the candidate search");
+    const auto index = [&](const Level& level, double x, int d) {
+      const double i = std::floor((x - lo[d]) / level.cell);
+      return static_cast<std::size_t>(std::clamp(i, 0.0, static_cast<double>(level.dims[d] - 1)));
     };
-    const auto cell_id = [&](std::size_t i, std::size_t j, std::size_t k) { return (i * dims[1] + j) * dims[2] + k; };
-    // The cell of every narrow tet (kNone: a wide one), then tets per cell (counting sort).
-    const std::size_t cells = dims[0] * dims[1] * dims[2];
+    const auto cell_id = [&](const Level& level, std::size_t i, std::size_t j, std::size_t k) {
+      return level.offset + (i * level.dims[1] + j) * level.dims[2] + k;
+    };
+    // The cell of every tet, on its level; then the tets per cell (counting sort).
     std::vector<std::uint32_t> tet_cell(tet_count);
+    std::vector<std::vector<char>> slice_levels(tet_slices, std::vector<char>(levels.size(), 0));
     parallel_for(threads_, tet_slices, [&](std::size_t slice, unsigned) {
+      std::vector<char> used(levels.size(), 0);
       for (std::size_t t = tet_count * slice / tet_slices; t < tet_count * (slice + 1) / tet_slices; ++t) {
         const CGAL::Bbox_3 b = tet_box(t);
-        const bool narrow = b.xmax() - b.xmin() <= cell && b.ymax() - b.ymin() <= cell && b.zmax() - b.zmin() <= cell;
-        tet_cell[t] = narrow ? static_cast<std::uint32_t>(cell_id(index(b.xmin(), 0), index(b.ymin(), 1), index(b.zmin(), 2)))
-                             : kNone;
+        const double width = std::max({b.xmax() - b.xmin(), b.ymax() - b.ymin(), b.zmax() - b.zmin()});
+        std::size_t l = 0;
+        while (l + 1 < levels.size() && width > levels[l].cell) ++l;
+        used[l] = 1;
+        const Level& level = levels[l];
+        tet_cell[t] = static_cast<std::uint32_t>(
+            cell_id(level, index(level, b.xmin(), 0), index(level, b.ymin(), 1), index(level, b.zmin(), 2)));
       }
+      slice_levels[slice] = std::move(used);
     }, /*grain=*/1);
+    std::vector<std::size_t> occupied;  // levels holding tets, finest first
+    for (std::size_t l = 0; l < levels.size(); ++l)
+      for (const std::vector<char>& used : slice_levels)
+        if (used[l]) {
+          occupied.push_back(l);
+          break;
+        }
     // A counting sort on all threads with atomic counters: the order of the tets inside a cell
     // varies with the threads, but only the set of pairs found matters (sorted per tet below).
-    std::vector<std::uint32_t> cell_first(cells + 1, 0), cell_tets;
-    for (int pass = 0; pass < 2; ++pass) {
-      std::vector<std::uint32_t> next;
-      if (pass == 1) {
-        prefix_sum(threads_, cell_first);
-        cell_tets.resize(cell_first[cells]);
-        next.assign(cell_first.begin(), cell_first.end() - 1);
-      }
-      const auto put = [&](std::size_t c, std::uint32_t t) {
-        if (pass == 0) {
-          std::atomic_ref<std::uint32_t>(cell_first[c + 1]).fetch_add(1, std::memory_order_relaxed);
-        } else {
-          cell_tets[std::atomic_ref<std::uint32_t>(next[c]).fetch_add(1, std::memory_order_relaxed)] = t;
-        }
-      };
-      parallel_for(threads_, tet_slices, [&](std::size_t slice, unsigned) {
-        for (auto t = static_cast<std::uint32_t>(tet_count * slice / tet_slices); t < tet_count * (slice + 1) / tet_slices; ++t) {
-          if (tet_cell[t] != kNone) {
-            put(tet_cell[t], t);
-            continue;
-          }
-          std::array<std::size_t, 3> from{}, to{};
-          cell_range(tet_box(t), from, to);
-          for (std::size_t i = from[0]; i <= to[0]; ++i)
-            for (std::size_t j = from[1]; j <= to[1]; ++j)
-              for (std::size_t k = from[2]; k <= to[2]; ++k) put(cell_id(i, j, k), t);
-        }
-      }, /*grain=*/1);
+    std::vector<std::uint32_t> cell_first(cells + 1, 0), cell_tets(tet_count);
+    parallel_blocks(threads_, tet_count, 1 << 14, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t t = begin; t < end; ++t)
+        std::atomic_ref<std::uint32_t>(cell_first[std::size_t{tet_cell[t]} + 1]).fetch_add(1, std::memory_order_relaxed);
+    });
+    prefix_sum(threads_, cell_first);
+    {
+      std::vector<std::uint32_t> next(cell_first.begin(), cell_first.end() - 1);
+      parallel_blocks(threads_, tet_count, 1 << 14, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t t = begin; t < end; ++t)
+          cell_tets[std::atomic_ref<std::uint32_t>(next[tet_cell[t]]).fetch_add(1, std::memory_order_relaxed)] =
+              static_cast<std::uint32_t>(t);
+      });
     }
     std::vector<std::uint32_t>().swap(tet_cell);
     // Slices of ~1024 triangles taken dynamically (halves per thread left one thread idle where
@@ -480,17 +494,23 @@ class VirtualTets {
     std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(slices);
     parallel_for(threads_, slices, [&](std::size_t slice, unsigned) {
       std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+      std::vector<std::array<std::size_t, 6>> ranges(occupied.size());  // per occupied level: from, to
       const std::size_t begin = m_.triangles.size() * slice / slices;
       const std::size_t end = m_.triangles.size() * (slice + 1) / slices;
       for (auto x = static_cast<std::uint32_t>(begin); x < end; ++x) {
         const CGAL::Bbox_3 b = corner(x, 0).bbox() + corner(x, 1).bbox() + corner(x, 2).bbox();
-        std::array<std::size_t, 3> from{}, to{};
-        // A narrow tet sits in the cell of its low corner, at most one cell (its width) below the
-        // triangle's box when they overlap. Widened by two cells, not one: the narrow test and
+        // A tet of a level sits in the cell of its low corner, at most one cell (its width) below
+        // the triangle's box when they overlap. Widened by two cells, not one: the level test and
         // this bound are rounded doubles, and a tet a rounding wider than a cell must still be
         // found (the exact overlap test below keeps exactly the overlapping pairs either way).
-        cell_range(CGAL::Bbox_3(b.xmin() - 2 * cell, b.ymin() - 2 * cell, b.zmin() - 2 * cell, b.xmax(), b.ymax(), b.zmax()),
-                   from, to);  // rounded to nearest, as the binning
+        // Rounded to nearest, as the binning.
+        for (std::size_t o = 0; o < occupied.size(); ++o) {
+          const Level& level = levels[occupied[o]];
+          const double widen = 2 * level.cell;
+          ranges[o] = {index(level, b.xmin() - widen, 0), index(level, b.ymin() - widen, 1),
+                       index(level, b.zmin() - widen, 2), index(level, b.xmax(), 0),
+                       index(level, b.ymax(), 1), index(level, b.zmax(), 2)};
+        }
         const CGAL::Protect_FPU_rounding<true> rounding;  // upward, for Interval_nt<false>
         // The triangle's plane in intervals: a tet whose four corners are certainly strictly on
         // one side of it cannot meet the triangle (clipping would give an empty polygon), so it
@@ -508,21 +528,28 @@ class VirtualTets {
           }
           return side;
         };
-        for (std::size_t i = from[0]; i <= to[0]; ++i)
-          for (std::size_t j = from[1]; j <= to[1]; ++j)
-            for (std::size_t k = from[2]; k <= to[2]; ++k) {
-              const std::size_t c = cell_id(i, j, k);
-              for (std::uint32_t n = cell_first[c]; n < cell_first[c + 1]; ++n) {
-                const std::uint32_t t = cell_tets[n];
-                if (CGAL::do_overlap(b, tet_box(t)) && plane_side(t) == 0) pairs.emplace_back(t, x);
+        for (std::size_t o = 0; o < occupied.size(); ++o) {
+          const Level& level = levels[occupied[o]];
+          const std::array<std::size_t, 6>& r = ranges[o];
+          for (std::size_t i = r[0]; i <= r[3]; ++i)
+            for (std::size_t j = r[1]; j <= r[4]; ++j)
+              for (std::size_t k = r[2]; k <= r[5]; ++k) {
+                const std::size_t c = cell_id(level, i, j, k);
+                for (std::uint32_t n = cell_first[c]; n < cell_first[c + 1]; ++n) {
+                  const std::uint32_t t = cell_tets[n];
+                  if (CGAL::do_overlap(b, tet_box(t)) && plane_side(t) == 0) pairs.emplace_back(t, x);
+                }
               }
-            }
+        }
       }
       found[slice] = std::move(pairs);
     }, /*grain=*/1);
     // Sorted by (tet, triangle): a counting sort by tet (atomic counters, on all threads: the
     // order inside a tet varies), then each tet's few triangles sorted, on all threads.
     std::vector<std::uint32_t>& first = cand_first_;
+    std::size_t pair_count = 0;
+    for (const auto& pairs : found) pair_count += pairs.size();
+    IMM_ASSERT(pair_count < kNone, "more than 2^32 candidate pairs");  // the offsets are 32-bit
     parallel_for(threads_, slices, [&](std::size_t slice, unsigned) {
       for (const auto& [t, x] : found[slice])
         std::atomic_ref<std::uint32_t>(first[std::size_t{t} + 1]).fetch_add(1, std::memory_order_relaxed);
@@ -537,7 +564,8 @@ class VirtualTets {
         std::vector<std::pair<std::uint32_t, std::uint32_t>>().swap(found[slice]);
       }, /*grain=*/1);
     }
-    // Sorted and unique per tet (a wide tet is met once per cell it shares with a triangle's box).
+    // Sorted per tet. Each pair was found once (a tet is in one cell, and a triangle visits a
+    // cell once): checked here, where it costs one comparison per pair.
     std::atomic<std::size_t> repeats{0};
     parallel_blocks(threads_, tet_count, 1 << 12, [&](std::size_t begin_tet, std::size_t end_tet) {
       std::size_t n = 0;
@@ -545,22 +573,11 @@ class VirtualTets {
         const auto begin = candidates_.begin() + first[t], end = candidates_.begin() + first[t + 1];
         std::sort(begin, end);
         for (auto c = begin; c != end; ++c)
-          if (c != begin && *c == *(c - 1)) ++n;  // only counted here: ...
+          if (c != begin && *c == *(c - 1)) ++n;
       }
       repeats += n;
     });
-    if (repeats > 0) {
-      // ... the repeats (wide tets only) are removed by one compaction pass, in tet order.
-      std::size_t kept = 0;
-      for (std::size_t t = 0; t < tet_count; ++t) {
-        const auto begin = candidates_.begin() + first[t], end = candidates_.begin() + first[t + 1];
-        first[t] = static_cast<std::uint32_t>(kept);
-        for (auto c = begin; c != end; ++c)
-          if (c == begin || *c != *(c - 1)) candidates_[kept++] = *c;
-      }
-      first[tet_count] = static_cast<std::uint32_t>(kept);
-      candidates_.resize(kept);
-    }
+    IMM_ASSERT(repeats == 0, "a candidate pair found twice");
     out_.candidate_pairs = candidates_.size();
   }
 

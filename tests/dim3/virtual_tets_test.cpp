@@ -8,12 +8,17 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
 #include <string>
 #include <vector>
 
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/intersections.h>
+
 #include "dim3/generators3.h"
+#include "dim3/graded_background.h"
 #include "dim3/mesh3.h"
 #include "dim3/mesh3_detail.h"
 #include "dim3/self_connecting.h"
@@ -356,6 +361,72 @@ TEST(VirtualTets, ShuffledBackgroundGivesTheSameMesh) {
   EXPECT_EQ(results[0].stats.output_vertices, results[1].stats.output_vertices);
   EXPECT_EQ(results[0].stats.copies_per_cell, results[1].stats.copies_per_cell);
   EXPECT_GT(results[0].stats.cut_tets, 0u);
+}
+
+// The candidate search bins tets on a hierarchy of grids, each tet once, on the finest level
+// whose cells are as wide as it. A background graded around a small sphere in one corner (its
+// tets from the surface size up to 16 times it) is cut by a large sphere that crosses tets of
+// every size: the tets the clipping finds a polygon in are exactly those an independent exact
+// test (CGAL's triangle-tetrahedron do_intersect, over all pairs whose boxes overlap) says the
+// sphere's triangles meet, on 1, 2 and 3 threads.
+TEST(VirtualTets, CandidatesOnAGradedBackgroundFindEveryTetATriangleMeets) {
+  using EK = CGAL::Exact_predicates_exact_constructions_kernel;
+  const SurfaceGenerateResult big = generate_surface("sphere", {});
+  ASSERT_TRUE(big.ok()) << big.error;
+  const Prepared p = prepare(big.surface);
+  Surface small = big.surface;
+  for (Point3& v : small.vertices)
+    for (int d = 0; d < 3; ++d) v[d] = 0.1 * v[d] + 1.3;
+  Box3 box = bounding_box(big.surface);
+  for (int d = 0; d < 3; ++d) box.hi[d] = std::max(box.hi[d], 1.4);
+  GradedOptions graded;
+  graded.far_resolution = 1;
+  graded.surface_resolution = 32;
+  const GradedBackground g = make_graded_background(small, box, graded);
+  ASSERT_TRUE(g.report.ok()) << g.report.summary();
+  const TetMesh& background = g.mesh;
+  // Brute force: every (tet, triangle) pair whose boxes overlap, decided exactly.
+  const auto point = [](const Point3& q) { return EK::Point_3(q[0], q[1], q[2]); };
+  std::size_t meeting = 0, meeting_wide = 0;
+  double finest = std::numeric_limits<double>::infinity();
+  std::vector<double> width(background.tets.size());
+  std::vector<CGAL::Bbox_3> tet_box(background.tets.size());
+  for (std::size_t t = 0; t < background.tets.size(); ++t) {
+    for (int k = 0; k < 4; ++k) {
+      const Point3& q = background.vertices[static_cast<std::size_t>(background.tets[t][static_cast<std::size_t>(k)])];
+      tet_box[t] += CGAL::Bbox_3(q[0], q[1], q[2], q[0], q[1], q[2]);
+    }
+    width[t] = tet_box[t].xmax() - tet_box[t].xmin();
+    finest = std::min(finest, width[t]);
+  }
+  for (const Triangle& tri : big.surface.triangles) {
+    const Point3 &a = big.surface.vertices[tri[0]], &b = big.surface.vertices[tri[1]], &c = big.surface.vertices[tri[2]];
+    CGAL::Bbox_3 tb;
+    for (const Point3* q : {&a, &b, &c}) tb += CGAL::Bbox_3((*q)[0], (*q)[1], (*q)[2], (*q)[0], (*q)[1], (*q)[2]);
+    const EK::Triangle_3 triangle(point(a), point(b), point(c));
+    for (std::size_t t = 0; t < background.tets.size(); ++t) {
+      if (!CGAL::do_overlap(tb, tet_box[t])) continue;
+      const Tet& tet = background.tets[t];
+      const EK::Tetrahedron_3 solid(point(background.vertices[static_cast<std::size_t>(tet[0])]),
+                                    point(background.vertices[static_cast<std::size_t>(tet[1])]),
+                                    point(background.vertices[static_cast<std::size_t>(tet[2])]),
+                                    point(background.vertices[static_cast<std::size_t>(tet[3])]));
+      if (!CGAL::do_intersect(triangle, solid)) continue;
+      ++meeting;
+      if (width[t] >= 8 * finest) ++meeting_wide;
+    }
+  }
+  ASSERT_GT(meeting_wide, 0u) << "the sphere should cross tets 8 or more times the finest";
+  for (const unsigned threads : {1u, 2u, 3u}) {
+    ValidationReport report;
+    bool non_generic = false;
+    const detail::LocalRegions r = detail::compute_local_regions(p.complex(), background, {0, 0, 0}, false, threads,
+                                                                 true, report, non_generic);
+    ASSERT_TRUE(report.ok()) << report.summary();
+    ASSERT_FALSE(non_generic);
+    EXPECT_EQ(r.polygons, meeting) << threads << " threads";
+    EXPECT_GE(r.candidate_pairs, meeting) << threads << " threads";
+  }
 }
 
 // Three tets on one face: the background is not a manifold there; reported with the face's
