@@ -16,7 +16,7 @@ namespace {
 
 // Temporaries of writes in progress, readable from a signal handler: a fixed table of slots whose
 // state is a lock-free atomic (0 free, 1 being filled, 2 holds a live path).
-constexpr int kSlots = 64;
+constexpr int kSlots = 1024;  // a command stages all its outputs before renaming them (Session)
 constexpr std::size_t kPathBytes = 4096;
 struct Slot {
   std::atomic<int> state{0};
@@ -56,12 +56,21 @@ extern "C" void remove_temporaries_and_reraise(int signal_number) {
 
 std::string errno_text() { return errno ? std::strerror(errno) : "stream error"; }
 
+/// Why a fill that returned false stopped: the stream's OS error when the stream failed (a full
+/// disk: "No space left on device"), else that the producer abandoned it.
+std::string abandoned_reason(const std::string& path, const std::ostream& out, int saved_errno) {
+  if (!out.good() && saved_errno != 0) return "cannot write '" + path + "': " + std::strerror(saved_errno);
+  if (!out.good()) return "cannot write '" + path + "': stream error";
+  return "writing '" + path + "' was abandoned";
+}
+
 /// Writes a FIFO or device in place: no temporary, no rename (neither exists for them).
 WriteStatus write_through(const std::string& path, const std::function<bool(std::ostream&)>& fill) {
   errno = 0;
   std::ofstream out(path, std::ios::binary);
   if (!out) return {"cannot open '" + path + "' for writing: " + errno_text()};
-  if (!fill(out)) return {"writing '" + path + "' was abandoned"};
+  errno = 0;
+  if (!fill(out)) return {abandoned_reason(path, out, errno)};
   out.flush();
   const bool ok = static_cast<bool>(out);
   const std::string reason = errno_text();
@@ -70,9 +79,10 @@ WriteStatus write_through(const std::string& path, const std::function<bool(std:
   return {};
 }
 
-/// Writes a regular file (existing or not) through a temporary and a rename.
-WriteStatus write_replacing(const std::string& path, const std::function<bool(std::ostream&)>& fill) {
-  const std::string tmp = temporary_path(path);
+/// Writes the temporary of a regular file (existing or not) into `staged`.
+WriteStatus stage_replacing(const std::string& target, const std::function<bool(std::ostream&)>& fill,
+                            StagedWrite& staged) {
+  const std::string tmp = temporary_path(target);
   const int slot = register_temporary(tmp);
   auto discard = [&]() {
     std::error_code ignored;
@@ -87,6 +97,7 @@ WriteStatus write_replacing(const std::string& path, const std::function<bool(st
     return {"cannot create '" + tmp + "': " + reason};
   }
   bool filled = false;
+  errno = 0;
   try {
     filled = fill(out);
   } catch (...) {
@@ -95,9 +106,11 @@ WriteStatus write_replacing(const std::string& path, const std::function<bool(st
     throw;
   }
   if (!filled) {
+    const int saved = errno;
+    const std::string reason = abandoned_reason(target, out, saved);
     out.close();
     discard();
-    return {"writing '" + path + "' was abandoned"};
+    return {reason};
   }
   out.flush();
   const bool stream_ok = static_cast<bool>(out);
@@ -107,13 +120,34 @@ WriteStatus write_replacing(const std::string& path, const std::function<bool(st
     discard();
     return {"cannot write '" + tmp + "': " + reason};
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    discard();
-    return {"cannot rename '" + tmp + "' to '" + path + "': " + reason};
-  }
-  unregister_temporary(slot);
+  staged.target = target;
+  staged.temporary = tmp;
+  staged.slot = slot;
   return {};
+}
+
+/// `path` with its symbolic links followed to what they name (a dangling link names the file to
+/// create); `st_mode` 0 when that does not exist. @return an error message, or empty.
+std::string follow_links(const std::string& path, std::string& target, mode_t& mode) {
+  target = path;
+  mode = 0;
+  for (int hops = 0;; ++hops) {
+    struct stat st {};
+    if (::lstat(target.c_str(), &st) != 0) {
+      if (errno == ENOENT) return {};
+      return "cannot write '" + path + "': " + std::strerror(errno);
+    }
+    if (!S_ISLNK(st.st_mode)) {
+      mode = st.st_mode;
+      return {};
+    }
+    if (hops >= 40) return "cannot write '" + path + "': too many levels of symbolic links";
+    std::error_code ec;
+    std::filesystem::path link = std::filesystem::read_symlink(target, ec);
+    if (ec) return "cannot read the symbolic link '" + target + "': " + ec.message();
+    if (link.is_relative()) link = std::filesystem::path(target).parent_path() / link;
+    target = link.string();
+  }
 }
 
 }  // namespace
@@ -131,29 +165,62 @@ WriteStatus write_file_atomic(const std::string& path, std::string_view content)
 
 WriteStatus write_file_atomic(const std::string& path,
                               const std::function<bool(std::ostream&)>& fill) {
-  // Follow symbolic links to what they name (a dangling link names the file to create), so that
-  // the rename replaces the target, never the link.
-  std::string target = path;
-  for (int hops = 0;; ++hops) {
-    struct stat st {};
-    if (::lstat(target.c_str(), &st) != 0) {
-      if (errno == ENOENT) return write_replacing(target, fill);
-      return {"cannot write '" + path + "': " + std::strerror(errno)};
-    }
-    if (S_ISLNK(st.st_mode)) {
-      if (hops >= 40) return {"cannot write '" + path + "': too many levels of symbolic links"};
-      std::error_code ec;
-      std::filesystem::path link = std::filesystem::read_symlink(target, ec);
-      if (ec) return {"cannot read the symbolic link '" + target + "': " + ec.message()};
-      if (link.is_relative()) link = std::filesystem::path(target).parent_path() / link;
-      target = link.string();
-      continue;
-    }
-    if (S_ISREG(st.st_mode)) return write_replacing(target, fill);
-    if (S_ISFIFO(st.st_mode) || S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return write_through(target, fill);
-    if (S_ISDIR(st.st_mode)) return {"cannot write '" + path + "': it is a directory"};
-    return {"cannot write '" + path + "': not a regular file, FIFO or device"};
+  StagedWrite staged;
+  if (WriteStatus status = stage_write(path, fill, staged); !status.ok()) return status;
+  return commit_write(staged);
+}
+
+WriteStatus stage_write(const std::string& path, const std::function<bool(std::ostream&)>& fill,
+                        StagedWrite& staged) {
+  staged = StagedWrite{};
+  staged.path = path;
+  // Follow symbolic links to what they name, so that the rename replaces the target, never
+  // the link.
+  std::string target;
+  mode_t mode = 0;
+  if (std::string error = follow_links(path, target, mode); !error.empty()) return {std::move(error)};
+  if (mode == 0 || S_ISREG(mode)) return stage_replacing(target, fill, staged);
+  if (S_ISFIFO(mode) || S_ISCHR(mode) || S_ISBLK(mode)) {
+    staged.target = target;
+    return write_through(target, fill);
   }
+  if (S_ISDIR(mode)) return {"cannot write '" + path + "': it is a directory"};
+  return {"cannot write '" + path + "': not a regular file, FIFO or device"};
+}
+
+WriteStatus commit_write(StagedWrite& staged) {
+  if (staged.temporary.empty()) return {};
+  if (std::rename(staged.temporary.c_str(), staged.target.c_str()) != 0) {
+    const std::string reason = std::strerror(errno);
+    const std::string message = "cannot rename '" + staged.temporary + "' to '" + staged.target + "': " + reason;
+    discard_write(staged);
+    return {message};
+  }
+  unregister_temporary(staged.slot);
+  staged.temporary.clear();
+  staged.slot = -1;
+  return {};
+}
+
+void discard_write(StagedWrite& staged) {
+  if (staged.temporary.empty()) return;
+  std::error_code ignored;
+  std::filesystem::remove(staged.temporary, ignored);
+  unregister_temporary(staged.slot);
+  staged.temporary.clear();
+  staged.slot = -1;
+}
+
+std::string output_identity(const std::string& path) {
+  std::string target;
+  mode_t mode = 0;
+  if (!follow_links(path, target, mode).empty()) target = path;
+  struct stat st {};
+  if (mode != 0 && ::stat(target.c_str(), &st) == 0)
+    return "inode:" + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(std::filesystem::absolute(target, ec), ec);
+  return "path:" + (ec ? target : canonical.lexically_normal().string());
 }
 
 WriteStatus ensure_directory(const std::string& path) {
@@ -168,6 +235,15 @@ WriteStatus ensure_directory(const std::string& path) {
 WriteStatus ensure_parent_directory(const std::string& file) {
   const std::filesystem::path parent = std::filesystem::path(file).parent_path();
   return parent.empty() ? WriteStatus{} : ensure_directory(parent.string());
+}
+
+std::string unreadable_file_kind(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return {};
+  if (S_ISCHR(st.st_mode)) return "a character device";
+  if (S_ISBLK(st.st_mode)) return "a block device";
+  if (S_ISSOCK(st.st_mode)) return "a socket";
+  return {};
 }
 
 void remove_temporaries_on_signals() {

@@ -43,12 +43,43 @@ WriteStatus write_file_atomic(const std::string& path, std::string_view content)
 WriteStatus write_file_atomic(const std::string& path,
                               const std::function<bool(std::ostream&)>& fill);
 
+/// A write prepared but not yet visible (for a set of outputs that must land together): the
+/// content sits in `temporary` until commit_write renames it over `target`. An empty `temporary`
+/// after a successful stage_write: the path was a FIFO or device, written through already.
+struct StagedWrite {
+  std::string path;       ///< as given
+  std::string target;     ///< the file it replaces (symbolic links followed)
+  std::string temporary;  ///< "<target>.tmp.<pid>", removed on a signal until committed
+  int slot = -1;          ///< internal: the temporary's slot for the signal handler
+};
+
+/// The first half of write_file_atomic: fills the temporary (a FIFO or device is written through
+/// at once). On failure nothing is left behind. @return the status.
+WriteStatus stage_write(const std::string& path, const std::function<bool(std::ostream&)>& fill,
+                        StagedWrite& staged);
+/// Renames a staged temporary over its target (nothing for a written-through one).
+/// @return the status; on failure the temporary is removed.
+WriteStatus commit_write(StagedWrite& staged);
+/// Removes a staged temporary; the target stays as it was.
+void discard_write(StagedWrite& staged);
+
+/// What file writing `path` would replace, as a string equal for two paths exactly when they name
+/// the same file: the device and inode of an existing target (symbolic links followed, so a link
+/// and its target, or two hard links, are the same), else its canonical absolute path.
+std::string output_identity(const std::string& path);
+
 /// Creates a directory and its parents when missing. @return the status (error when the path
 /// exists and is not a directory, or cannot be created).
 WriteStatus ensure_directory(const std::string& path);
 
 /// ensure_directory of the directory `file` is to be written in (nothing for a bare file name).
 WriteStatus ensure_parent_directory(const std::string& file);
+
+/// Why `path` must not be read as an input file: "a character device", "a block device", "a
+/// socket" (reading /dev/zero or /dev/urandom never ends); empty for a regular file, a FIFO, a
+/// directory (the readers say so themselves) or a path that cannot be examined (the open then
+/// reports why). Symbolic links are followed.
+std::string unreadable_file_kind(const std::string& path);
 
 /// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT (those whose disposition is still
 /// the default) that unlink the temporaries of writes in progress, then re-raise the signal with

@@ -8,7 +8,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -136,6 +138,8 @@ TEST_F(AtomicTarget, DevicesAreWrittenThroughAndKept) {
     const WriteStatus full = write_file_atomic("/dev/full", std::string(1 << 16, 'x'));
     EXPECT_FALSE(full.ok());
     EXPECT_NE(full.error.find("/dev/full"), std::string::npos) << full.error;
+    // The OS error, not only "was abandoned" (the tester's `--embedding /dev/full`).
+    EXPECT_NE(full.error.find(std::strerror(ENOSPC)), std::string::npos) << full.error;
     EXPECT_TRUE(fs::is_character_file("/dev/full"));
   }
   // A symlink to a device writes the device.
@@ -246,6 +250,53 @@ TEST_F(AtomicTarget, DeadlineStopsTheWrite) {
   OutputBudget open;  // no bound at all
   EXPECT_FALSE(open.expired());
   EXPECT_TRUE(open.charge(std::uint64_t{1} << 60));
+}
+
+// A set of outputs lands together (the CLI's Session): staged writes are invisible until their
+// commit, a discard leaves the old file, and output_identity sees one file behind two paths.
+TEST_F(AtomicTarget, StagedWritesLandOnlyOnCommit) {
+  const std::string a = (dir_ / "a.mesh").string(), b = (dir_ / "b.emb").string();
+  { std::ofstream(b) << "old"; }
+  StagedWrite sa, sb;
+  const auto fill = [](const char* text) {
+    return [text](std::ostream& out) { return static_cast<bool>(out << text); };
+  };
+  ASSERT_TRUE(stage_write(a, fill("mesh"), sa).ok());
+  ASSERT_TRUE(stage_write(b, fill("new"), sb).ok());
+  EXPECT_FALSE(fs::exists(a));
+  EXPECT_EQ(read(b), "old");
+  EXPECT_EQ(temporaries(), 2);
+  EXPECT_EQ(temporaries_in_progress(), 2);  // removed on a signal until committed
+  ASSERT_TRUE(commit_write(sa).ok());
+  discard_write(sb);
+  EXPECT_EQ(read(a), "mesh");
+  EXPECT_EQ(read(b), "old");
+  EXPECT_EQ(temporaries(), 0);
+  EXPECT_EQ(temporaries_in_progress(), 0);
+}
+
+TEST_F(AtomicTarget, OutputIdentityFollowsLinksAndDirectories) {
+  fs::create_directories(dir_ / "sub");
+  const std::string plain = (dir_ / "x.mesh").string();
+  EXPECT_EQ(output_identity(plain), output_identity((dir_ / "sub" / ".." / "x.mesh").string()));
+  EXPECT_NE(output_identity(plain), output_identity((dir_ / "y.mesh").string()));
+  fs::create_symlink("x.mesh", dir_ / "link.mesh");  // dangling: names the file to create
+  EXPECT_EQ(output_identity(plain), output_identity((dir_ / "link.mesh").string()));
+  { std::ofstream(plain) << "x"; }
+  EXPECT_EQ(output_identity(plain), output_identity((dir_ / "link.mesh").string()));
+  fs::create_hard_link(plain, dir_ / "hard.mesh");
+  EXPECT_EQ(output_identity(plain), output_identity((dir_ / "hard.mesh").string()));
+}
+
+TEST_F(AtomicTarget, DevicesAreNotInputs) {
+  EXPECT_EQ(unreadable_file_kind("/dev/zero"), "a character device");
+  fs::create_symlink("/dev/urandom", dir_ / "r.txt");
+  EXPECT_EQ(unreadable_file_kind((dir_ / "r.txt").string()), "a character device");
+  { std::ofstream(dir_ / "f.txt") << "0 0\n"; }
+  EXPECT_EQ(unreadable_file_kind((dir_ / "f.txt").string()), "");
+  ASSERT_EQ(::mkfifo((dir_ / "in.fifo").c_str(), 0600), 0);
+  EXPECT_EQ(unreadable_file_kind((dir_ / "in.fifo").string()), "");
+  EXPECT_EQ(unreadable_file_kind((dir_ / "missing.txt").string()), "");
 }
 
 }  // namespace
