@@ -1,5 +1,6 @@
 #include "core/generator_registry.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <system_error>
@@ -44,8 +45,14 @@ std::string parse_generator_arguments(const GeneratorInfo& info,
       while (positional < params.size() && set[positional]) ++positional;
       index = positional;
     } else {
+      // Either case: `generate --list` prints the keys upper case (N=12), usage examples lower.
+      const auto same_key = [](std::string_view a, std::string_view b) {
+        return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
+                 return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+               });
+      };
       for (std::size_t i = 0; i < params.size(); ++i) {
-        if (params[i].name == key) index = i;
+        if (same_key(params[i].name, key)) index = i;
       }
       if (index == params.size()) return "generator '" + name + "' has no parameter '" + key + "'";
     }
