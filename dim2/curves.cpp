@@ -19,6 +19,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "core/atomic_file.h"
 #include "core/rational.h"
 
 namespace imm::dim2 {
@@ -788,20 +789,43 @@ ReadResult read_curves(const std::string& path) {
     result.report.add(read_error("cannot read '" + path + "': it is a directory"));
     return result;
   }
+  const auto refuse = [&](std::string message) {
+    ReadResult result;
+    result.report.add(read_error(std::move(message)));
+    return result;
+  };
+  // /dev/zero or /dev/urandom would be read forever: only regular files and FIFOs are inputs.
+  if (const std::string kind = unreadable_file_kind(path); !kind.empty())
+    return refuse("cannot read '" + path + "': it is " + kind + ", not a regular file");
   std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    ReadResult result;
-    result.report.add(read_error("cannot open '" + path + "': " + std::strerror(errno)));
-    return result;
+  if (!file) return refuse("cannot open '" + path + "': " + std::strerror(errno));
+  // Read in chunks, checking as it comes that it is text: a NUL byte (no text, SVG or OBJ file
+  // holds one) or a line longer than kMaxLineBytes ends the read at once, so a binary stream
+  // (a FIFO fed from /dev/urandom) or a file without line breaks is refused, not loaded whole.
+  constexpr std::size_t kMaxLineBytes = std::size_t{1} << 26;
+  std::string text;
+  std::vector<char> chunk(1 << 16);
+  std::size_t line_start = 0, line_number = 1;
+  while (file) {
+    file.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    const auto n = static_cast<std::size_t>(file.gcount());
+    if (n == 0) break;
+    const std::size_t base = text.size();
+    text.append(chunk.data(), n);
+    for (std::size_t i = base; i < text.size(); ++i) {
+      if (text[i] == '\0')
+        return refuse("cannot read '" + path + "': a NUL byte at byte " + std::to_string(i) + " (line " +
+                      std::to_string(line_number) + "): not a text file");
+      if (text[i] == '\n') {
+        line_start = i + 1;
+        ++line_number;
+      }
+    }
+    if (text.size() - line_start > kMaxLineBytes)
+      return refuse("cannot read '" + path + "': line " + std::to_string(line_number) + " is longer than " +
+                    std::to_string(kMaxLineBytes >> 20) + " MiB: not a curve file");
   }
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
-  if (file.bad()) {
-    ReadResult result;
-    result.report.add(read_error("cannot read '" + path + "'"));
-    return result;
-  }
-  const std::string text = buffer.str();
+  if (file.bad()) return refuse("cannot read '" + path + "'");
   if (ends_with_ci(path, ".svg")) return with_validation(parse_svg(text));
   if (ends_with_ci(path, ".obj")) return with_validation(parse_obj(text));
   return parse_curves_text(text);

@@ -19,6 +19,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "core/atomic_file.h"
 #include "dim3/surface.h"
 #include "dim3/text_io.h"
 
@@ -655,6 +656,15 @@ void parse_stl_binary(std::string_view data, const Where& at, Soup& soup, ReadDe
                                             std::to_string(needed) + " bytes) but the file has " +
                                             std::to_string(data.size()) + " bytes");
     count = static_cast<std::uint32_t>((data.size() - 84) / 50);
+  } else if (data.size() - needed >= 50) {
+    // Room for more facets than the header counts: a wrong count would drop them silently and
+    // the surface then looked open. A few bytes of padding (less than a record) are tolerated.
+    defects.add(DefectKind::Unreadable, at.name() + ": binary STL announces " +
+                                            std::to_string(count) + " facets (" +
+                                            std::to_string(needed) + " bytes) but the file has " +
+                                            std::to_string(data.size()) + " bytes, room for " +
+                                            std::to_string((data.size() - 84) / 50) +
+                                            " facets: the facet count does not match the size");
   }
   Welder welder(soup);
   for (std::uint32_t f = 0; f < count; ++f) {
@@ -840,6 +850,9 @@ SurfaceReadResult read_surface(const std::string& path) {
     return unreadable("cannot read '" + path + "': unknown surface extension '" + ext +
                       "' (expected .obj, .off, .ply or .stl)");
   }
+  // /dev/zero or /dev/urandom: no size to read, and reading would never end.
+  if (const std::string kind = unreadable_file_kind(path); !kind.empty())
+    return unreadable("cannot read '" + path + "': it is " + kind + ", not a regular file");
   std::string error;
   const std::optional<std::string> file = read_file(path, error);
   if (!file) return unreadable(std::move(error));
