@@ -45,6 +45,7 @@
 #include "dim2/generators.h"
 #include "dim2/mesh2.h"
 #include "dim2/svg.h"
+#include "dim3/tet_mesh.h"
 
 namespace imm::cli {
 namespace {
@@ -196,7 +197,8 @@ std::vector<CommandSpec> make_command_specs() {
        "exit 2 instead of resolving them by a tiny perturbation"});
   immersions.footer =
       "Exit codes: 0 immersible, 3 not immersible / inverted / self-connecting cell / budget exhausted\n"
-      "(the JSON is written in every case), 2 invalid input, 64 bad command line, 1 internal error.\n";
+      "(the JSON is written in each of these cases, except when --time-limit ran out: nothing is written\n"
+      "after the deadline), 2 invalid input, 64 bad command line, 1 internal error.\n";
   specs.push_back(immersions);
 
   CommandSpec mesh;
@@ -309,6 +311,7 @@ int usage_error(const CliEnvironment& env, const std::string& command, const std
 }
 
 void print_written(Session& s, std::size_t from) {
+  if (!s.commit()) return;  // a write failed: nothing of this command was kept
   const auto& written = s.written();
   std::size_t width = 0;
   for (std::size_t i = from; i < written.size(); ++i) width = std::max(width, written[i].first.size());
@@ -426,7 +429,8 @@ void print_contacts_note(Session& s, const std::string& path, const ContactsView
   } else {
     s.err() << "immerse: note: '" << path << "' has " << contact_counts_text(c) << '\n';
   }
-  if (list) s.err() << c.found->summary(std::numeric_limits<std::size_t>::max());
+  // At most kMaxDefectLines, then "... and N more" (a duplicated SVG listed 157 KB of contacts).
+  if (list) s.err() << c.found->summary(kMaxDefectLines);
 }
 
 Json contacts_json(const ContactsView& c, const std::string& facet_key) {
@@ -758,6 +762,7 @@ int command_cells(Session& s, const CommandLine& cl) {
     return cells_surface(s, cl);
   }
   if (cl.has("--cut-mesh")) return usage_error(s.env(), "cells", "--cut-mesh needs a 3D surface input");
+  if (cl.has("--repair-folds")) return usage_error(s.env(), "cells", "--repair-folds is for 3D surfaces only");
   s.enable_summary();
   Prepared p;
   p.path = cl.positional[0];
@@ -924,9 +929,8 @@ int command_immersions(Session& s, const CommandLine& cl) {
     s.enable_summary();
     return immersions_surface(s, cl, request);
   }
-  if (cl.has("--no-helper-boxes")) {
-    return usage_error(s.env(), "immersions", "--no-helper-boxes applies to 3D surfaces only");
-  }
+  for (const char* option : {"--no-helper-boxes", "--repair-folds"})
+    if (cl.has(option)) return usage_error(s.env(), "immersions", std::string(option) + " applies to 3D surfaces only");
   s.enable_summary();
   Prepared p;
   p.path = cl.positional[0];
@@ -1067,8 +1071,11 @@ int command_mesh(Session& s, const CommandLine& cl) {
     // --conforming: TetGen's tets; the edge length defaults to the grid's cube side.
     return mesh_surface(s, cl, request, options3, k, all, choice.conforming ? &choice.conforming3 : nullptr);
   }
-  for (const char* option : {"--all", "--threads", "--no-helper-boxes"})
+  for (const char* option : {"--all", "--threads", "--no-helper-boxes", "--repair-folds"})
     if (cl.has(option)) return usage_error(env, "mesh", std::string(option) + " is for 3D surfaces only");
+  // The 2D mesh is written as Medit only (x.vtu held Medit text before).
+  if (auto path = cl.value("-o"); path && extension_of(*path) != ".mesh" && !is_stream_output(*path))
+    return usage_error(env, "mesh", "-o " + *path + ": a 2D triangle mesh is written as .mesh (Medit)");
   if (choice.conforming && cl.has("--method"))  // the CSG baseline clips background triangles; a conforming mesh has none cut
     return usage_error(env, "mesh", "--method is for the background mesher, not --conforming");
 
@@ -1156,7 +1163,7 @@ int command_default(Session& s) {
   }
   s.out() << "immerse: no command given: running the main job on the bundled curve '" << kDefaultInput
           << "' (see 'immerse --help')\n";
-  if (!s.write(at("input.txt"), dim2::format_curves_text(g.curves), "the input curve (text format)")) {
+  if (!s.write(at("input.txt"), dim2::format_curves_text(g.curves), "the input curve (text format)") || !s.commit()) {
     return kExitInternalError;
   }
   // Read the written file back: the job then runs exactly on what a user can re-run.
@@ -1195,9 +1202,68 @@ int command_default(Session& s) {
   return code;
 }
 
+/// One file a command line asks for: the option, its path, and whether `--all` numbers it
+/// (PATH_K.ext per immersion K).
+struct OutputFile {
+  std::string option;  ///< "-o", "--json", "-o (its .ele)", ...
+  std::string path;
+  bool numbered = false;
+};
+
+/// `path` with `_K` before its extension (mesh --all; as app/cli_surface.cpp numbers them).
+std::string numbered_path(const std::string& path, std::size_t k) {
+  const std::string ext = extension_of(path);
+  return path.substr(0, path.size() - ext.size()) + "_" + std::to_string(k) + ext;
+}
+
+/// The files of `cl`'s file-valued output options (not the directories of `immersions --svg`
+/// and `deform -o`), with the ones derived from them: TetGen's .ele beside a .node.
+std::vector<OutputFile> output_files(const std::string& command, const CommandLine& cl) {
+  std::vector<OutputFile> files;
+  const bool all = command == "mesh" && cl.has("--all");
+  for (const char* option : {"-o", "--json", "--embedding", "--svg", "--cut-mesh"}) {
+    if ((command == "immersions" && std::string(option) == "--svg") || (command == "deform" && std::string(option) == "-o"))
+      continue;
+    const auto path = cl.value(option);
+    if (!path) continue;
+    const bool numbered = all && (std::string(option) == "-o" || std::string(option) == "--embedding");
+    if (command == "mesh" && std::string(option) == "-o" && extension_of(*path) == ".node") {
+      const auto [node, ele] = dim3::tetgen_paths(*path);
+      files.push_back({option, node, numbered});
+      files.push_back({"the .ele of -o '" + *path + "':", ele, numbered});
+    } else {
+      files.push_back({option, *path, numbered});
+    }
+  }
+  return files;
+}
+
+/// Whether `a` and `b` can name the same file (numbered ones: for some immersion K).
+bool same_output(const OutputFile& a, const OutputFile& b) {
+  // A FIFO or device takes every output written to it (`-o /dev/null --json /dev/null`).
+  if (is_stream_output(a.path) || is_stream_output(b.path)) return false;
+  if (a.numbered == b.numbered) {
+    const std::string pa = a.numbered ? numbered_path(a.path, 0) : a.path;
+    const std::string pb = b.numbered ? numbered_path(b.path, 0) : b.path;
+    return output_identity(pa) == output_identity(pb);
+  }
+  const OutputFile& n = a.numbered ? a : b;  // PATH_K.ext against a plain path: which K would it be?
+  const OutputFile& plain = a.numbered ? b : a;
+  const std::string ext = extension_of(plain.path);
+  const std::string stem = plain.path.substr(0, plain.path.size() - ext.size());
+  const std::size_t underscore = stem.rfind('_');
+  if (underscore == std::string::npos || underscore + 1 == stem.size()) return false;
+  std::size_t k = 0;
+  const char* first = stem.data() + underscore + 1;
+  const char* last = stem.data() + stem.size();
+  if (const auto [ptr, ec] = std::from_chars(first, last, k); ec != std::errc() || ptr != last) return false;
+  return output_identity(numbered_path(n.path, k)) == output_identity(plain.path);
+}
+
 /// An output path naming an input file (the same file, by any path): `weights in.obj -o in.obj`
-/// replaced the surface by the weights' VTU. Empty when there is none, else the usage message.
-std::string output_over_input(const CommandLine& cl) {
+/// replaced the surface by the weights' VTU; or two outputs naming one file (`-o a.mesh
+/// --embedding a.mesh` kept only the embedding). Empty when there is none, else the usage message.
+std::string output_clash(const std::string& command, const CommandLine& cl) {
   std::vector<std::pair<std::string, std::string>> inputs;
   if (!cl.positional.empty()) inputs.emplace_back("the input", cl.positional[0]);
   for (const char* option : {"--background", "--handles"})
@@ -1209,6 +1275,21 @@ std::string output_over_input(const CommandLine& cl) {
       std::error_code ec;
       if (std::filesystem::equivalent(*out, in, ec) && !ec)
         return std::string(option) + " '" + *out + "' is " + what + " '" + in + "'; it would be replaced";
+    }
+  }
+  const std::vector<OutputFile> files = output_files(command, cl);
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    for (const auto& [what, in] : inputs) {
+      std::error_code ec;
+      if (!files[i].numbered && std::filesystem::equivalent(files[i].path, in, ec) && !ec)
+        return files[i].option + " '" + files[i].path + "' is " + what + " '" + in + "'; it would be replaced";
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!same_output(files[j], files[i])) continue;
+      const auto shown = [](const OutputFile& f) {
+        return f.option + " '" + f.path + "'" + (f.numbered ? " (numbered by --all)" : "");
+      };
+      return shown(files[j]) + " and " + shown(files[i]) + " name the same file; one would replace the other";
     }
   }
   return {};
@@ -1237,7 +1318,7 @@ int dispatch(Session& s, const std::vector<std::string>& args) {
   }
   CommandLine cl;
   if (auto code = parse_command(env, *spec, std::vector<std::string>(args.begin() + 1, args.end()), cl)) return *code;
-  if (const std::string clash = output_over_input(cl); !clash.empty()) return usage_error(env, command, clash);
+  if (const std::string clash = output_clash(command, cl); !clash.empty()) return usage_error(env, command, clash);
   s.set_strict(cl.has("--strict"));
   s.set_repair_folds(cl.real("--repair-folds"));
   if (command == "check") return command_check(s, cl);
@@ -1266,6 +1347,9 @@ int run_cli(const std::vector<std::string>& args, const CliEnvironment& env) {
     env.err << "immerse: internal error: " << e.what() << '\n';
     code = kExitInternalError;
   }
+  // The outputs land together or not at all: staged until here (or an earlier print_written).
+  if (!session.finish(code)) code = kExitInternalError;
+  if (session.output_collision()) code = kExitUsage;
   session.print_summary();
   return code;
 }

@@ -38,6 +38,8 @@
 #include "dim3/conforming_mesh3.h"
 #include "dim3/mesh3.h"
 
+#include <sys/stat.h>
+
 #include <nlohmann/json.hpp>
 
 namespace imm::cli {
@@ -155,6 +157,13 @@ std::vector<OptionSpec> mesh_choice_options(bool full_help);
 /// and conforming sizes are 3D only). @return a usage error message, or empty.
 std::string parse_mesh_choice(const CommandLine& cl, bool surface, MeshChoice& choice);
 
+/// Whether `path` (links followed) is an existing FIFO or character device (/dev/null,
+/// /dev/stdout on a pipe): written through, in the default format whatever its name.
+inline bool is_stream_output(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && (S_ISFIFO(st.st_mode) || S_ISCHR(st.st_mode));
+}
+
 // ---- one run: timings, counts, written files -------------------------------------------------
 
 class Session {
@@ -210,31 +219,54 @@ class Session {
   void set_repair_folds(std::optional<double> max) { repair_folds_ = max; }
   [[nodiscard]] std::optional<double> repair_folds() const { return repair_folds_; }
 
-  /// Writes `content` to `path` atomically (creating parent directories), records it for the
-  /// listing. @return false (after printing why) on failure.
+  /// Writes `content` to `path`'s temporary (creating parent directories) and records it for
+  /// the listing; the outputs of one command land together (commit) or not at all (DESIGN §3):
+  /// a failed or refused write, or a second write to the same file (by any path), makes the
+  /// command keep none of them. FIFOs and devices are written through at once.
+  /// @return false (after printing why) on failure.
   bool write(const std::string& path, const std::string& content, const std::string& what) {
     return timed("write", [&] {
       if (const WriteStatus dir = ensure_parent_directory(path); !dir.ok()) {
         err() << "immerse: " << dir.error << '\n';
-        return false;
+        return fail();
       }
       // The whole command is bounded (issue 13): nothing is written after the --time-limit
       // deadline, nor beyond the output budget (--max-output).
       if (budget_.expired()) {
         err() << "immerse: the time limit was reached; '" << path << "' was not written\n";
         time_limit_reached_ = true;
-        return false;
+        return fail();
       }
+      std::string identity = output_identity(path);
+      for (const Output& o : outputs_) {
+        if (o.identity != identity || o.staged.temporary.empty()) continue;  // a stream takes both
+        err() << "immerse: '" << path << "' (" << what << ") is the file '" << o.staged.path << "' (" << o.what
+              << ") already written by this command; not written\n";
+        collision_ = true;
+        return fail();
+      }
+      // The temporaries wait for the end of the command in the signal handler's table
+      // (core/atomic_file.cpp, 1024 slots): a command writing more files than that (deform
+      // with hundreds of frames) commits them in batches.
+      if (outputs_.size() >= kMaxStaged && !commit()) return false;
       if (!budget_.charge(content.size())) {
         err() << "immerse: '" << path << "' (" << content.size() << " bytes) would pass the output budget of "
               << budget_.max_bytes() << " bytes (" << budget_.used() << " already written; --max-output); not written\n";
-        return false;
+        return fail();
       }
-      const WriteStatus status = write_file_atomic(path, content);
+      Output output{std::move(identity), what, {}};
+      const WriteStatus status = stage_write(
+          path,
+          [&](std::ostream& out) {
+            out.write(content.data(), static_cast<std::streamsize>(content.size()));
+            return static_cast<bool>(out);
+          },
+          output.staged);
       if (!status.ok()) {
         err() << "immerse: " << status.error << '\n';
-        return false;
+        return fail();
       }
+      outputs_.push_back(std::move(output));
       written_.emplace_back(path, what);
       return true;
     });
@@ -242,6 +274,44 @@ class Session {
   [[nodiscard]] const std::vector<std::pair<std::string, std::string>>& written() const {
     return written_;
   }
+
+  /// Makes every output written so far visible (renames the temporaries), unless a write of this
+  /// command failed: then removes them all, says which, and forgets them. @return whether the
+  /// outputs landed (false: the command must exit 1).
+  bool commit() {
+    if (failed_) {
+      discard_all();
+      return false;
+    }
+    for (std::size_t i = 0; i < outputs_.size(); ++i) {
+      if (const WriteStatus status = commit_write(outputs_[i].staged); !status.ok()) {
+        err() << "immerse: " << status.error << '\n';
+        failed_ = true;
+        outputs_.erase(outputs_.begin(), outputs_.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+        discard_all();
+        return false;
+      }
+    }
+    committed_ += outputs_.size();
+    outputs_.clear();
+    return true;
+  }
+  /// At the end of the command: commit what is staged, or discard it after exit code 1 or a
+  /// failed write. @return false when the exit code must become 1 (a rename failed, or a write
+  /// failed in a command that still returned 0).
+  bool finish(int exit_code) {
+    if (exit_code == kExitInternalError) failed_ = true;
+    if (failed_) {
+      discard_all();
+      return exit_code != kExitOk;
+    }
+    return commit();
+  }
+  ~Session() {
+    for (Output& o : outputs_) discard_write(o.staged);
+  }
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
 
   void print_summary() const {
     if (!summary_) return;
@@ -269,13 +339,18 @@ class Session {
     if (budget_.expired()) {
       err() << "immerse: the time limit was reached; " << what << " not written\n";
       time_limit_reached_ = true;
+      failed_ = true;
       return false;
     }
     if (budget_.fits(bytes)) return true;
     err() << "immerse: " << what << " would take about " << bytes << " bytes, more than the output budget of "
           << budget_.max_bytes() - budget_.used() << " bytes left (--max-output); not written\n";
+    failed_ = true;
     return false;
   }
+  /// Whether a write was refused because its file was already written by this command (two
+  /// outputs on one path that the command line check could not see): a usage error.
+  [[nodiscard]] bool output_collision() const { return collision_; }
   /// Whether a write was refused because the --time-limit deadline had passed.
   [[nodiscard]] bool time_limit_reached() const { return time_limit_reached_; }
 
@@ -290,6 +365,35 @@ class Session {
   bool strict_ = false;
   std::optional<double> repair_folds_;
   std::vector<std::pair<std::string, std::string>> written_;
+
+  /// One staged output.
+  struct Output {
+    std::string identity;  ///< output_identity of its path
+    std::string what;
+    StagedWrite staged;
+  };
+  std::vector<Output> outputs_;  ///< staged, not yet committed
+  std::size_t committed_ = 0;
+  bool failed_ = false;  ///< a write failed or was refused: nothing of this command lands
+  bool collision_ = false;
+  static constexpr std::size_t kMaxStaged = 960;
+
+  bool fail() {
+    failed_ = true;
+    return false;
+  }
+  void discard_all() {
+    std::string names;
+    for (Output& o : outputs_) {
+      if (o.staged.temporary.empty()) continue;  // written through: already delivered
+      discard_write(o.staged);
+      names += (names.empty() ? "'" : ", '") + o.staged.path + "'";
+    }
+    if (!names.empty())
+      err() << "immerse: not written either, so that no output is left without the others: " << names << '\n';
+    outputs_.clear();
+    written_.clear();
+  }
 };
 
 /// DESIGN §4.6 promises that the .emb reproduces every input vertex within 1e-9 of the input's
@@ -552,7 +656,16 @@ void print_cell_table(Session& s, const CellComplex<D>& c, const std::string& ar
 
 // ---- 3D commands (app/cli_surface.cpp) -------------------------------------------------------
 
-/// True when the file is a 3D surface: .off/.ply/.stl, or an OBJ with faces and no 'l' lines.
+/// How many 'f' and 'l' elements an OBJ file has (read in bounded chunks, stopping at a NUL byte;
+/// zero for a file that cannot be opened or is a device).
+struct ObjElements {
+  std::size_t faces = 0;
+  std::size_t lines = 0;
+};
+ObjElements scan_obj_elements(const std::string& path);
+
+/// True when the file is a 3D surface: .off/.ply/.stl, or an OBJ with faces ('l' lines beside
+/// them are loose edges, ignored with a note).
 bool is_surface_file(const std::string& path);
 
 /// `immerse check IN` on a surface. @return the exit code.

@@ -27,22 +27,56 @@
 
 namespace imm::cli {
 
+ObjElements scan_obj_elements(const std::string& path) {
+  ObjElements found;
+  if (!unreadable_file_kind(path).empty()) return found;  // a device: the reader refuses it
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return found;  // the reader reports it
+  // A state machine over fixed-size chunks, never a whole line in memory: a file without line
+  // breaks (or an endless stream) costs no more than its bytes read. Stops at a NUL byte, which
+  // no OBJ text holds (the reader then says what the file is).
+  enum class State { LineStart, Tag, Rest } state = State::LineStart;
+  char tag = 0;
+  std::vector<char> buffer(1 << 16);
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    const std::streamsize n = in.gcount();
+    if (n <= 0) break;
+    for (std::streamsize i = 0; i < n; ++i) {
+      const char c = buffer[static_cast<std::size_t>(i)];
+      if (c == '\0') return found;
+      if (c == '\n') {
+        state = State::LineStart;
+        continue;
+      }
+      switch (state) {
+        case State::LineStart:
+          if (c == ' ' || c == '\t') break;
+          tag = c;
+          state = State::Tag;
+          break;
+        case State::Tag:
+          if (c == ' ' || c == '\t') {
+            found.faces += tag == 'f' ? 1 : 0;
+            found.lines += tag == 'l' ? 1 : 0;
+          }
+          state = State::Rest;
+          break;
+        case State::Rest:
+          break;
+      }
+    }
+  }
+  return found;
+}
+
 bool is_surface_file(const std::string& path) {
   const std::string ext = extension_of(path);
   if (ext == ".off" || ext == ".ply" || ext == ".stl") return true;
   if (ext != ".obj") return false;
-  std::ifstream in(path);
-  if (!in) return false;  // the 2D reader reports it
-  bool faces = false, lines = false;
-  std::string line;
-  while (std::getline(in, line)) {
-    const std::size_t i = line.find_first_not_of(" \t");
-    if (i == std::string::npos || i + 1 >= line.size()) continue;
-    if (line[i + 1] != ' ' && line[i + 1] != '\t') continue;
-    faces = faces || line[i] == 'f';
-    lines = lines || line[i] == 'l';
-  }
-  return faces && !lines;
+  // Faces make a surface; 'l' lines beside them are loose edges (exporters write them for
+  // seams, normals, wireframes) and the surface reader ignores them (read_input notes it).
+  return scan_obj_elements(path).faces > 0;
 }
 
 namespace {
@@ -150,6 +184,11 @@ int read_input(Session& s, PreparedSurface& p) {
   if (!p.report.ok()) {
     print_defects(s, p.path, p.report);
     return kExitInvalidInput;
+  }
+  if (extension_of(p.path) == ".obj") {
+    if (const std::size_t lines = scan_obj_elements(p.path).lines; lines > 0)
+      s.err() << "immerse: note: '" << p.path << "': " << plural(lines, "'l' line") << " (loose edges) ignored: "
+              << "a surface is read from its faces\n";
   }
   return kExitOk;
 }
@@ -618,7 +657,7 @@ int mesh_surface(Session& s, const CommandLine& cl, const SearchRequest& request
         return usage_error(s.env(), "mesh", std::string(option) + " is for the background mesher, not --conforming");
   if (auto path = cl.value("-o")) {
     const std::string ext = extension_of(*path);
-    if (ext != ".mesh" && ext != ".vtu" && ext != ".veg" && ext != ".msh" && ext != ".node")
+    if (ext != ".mesh" && ext != ".vtu" && ext != ".veg" && ext != ".msh" && ext != ".node" && !is_stream_output(*path))
       return usage_error(s.env(), "mesh",
                          "-o " + *path + ": a tet mesh is written as .mesh, .vtu, .veg, .msh or .node (+ .ele)");
   }

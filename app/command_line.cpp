@@ -54,6 +54,12 @@ class HelpFormatter : public CLI::Formatter {
     return out.str();
   }
 
+  /// CLI11 shows the positional, a vector, as "IN ..."; only commands that take several say so.
+  std::string make_option_opts(const CLI::Option* opt) const override {
+    if (opt->get_positional() && spec_.max_positional <= 1) return {};
+    return CLI::Formatter::make_option_opts(opt);
+  }
+
  private:
   const CommandSpec& spec_;
 };

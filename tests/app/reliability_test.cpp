@@ -214,7 +214,8 @@ TEST_F(Reliability2, BinaryInputGivesAShortPrintableMessage) {
   EXPECT_LT(r.output.size(), 8000u) << r.output.substr(0, 2000);
   for (char c : r.output)
     EXPECT_TRUE(c == '\n' || std::isprint(static_cast<unsigned char>(c))) << "byte " << int(static_cast<unsigned char>(c));
-  EXPECT_CONTAINS(r.output, "more unreadable lines");
+  // Random bytes hold a NUL early: the read stops there (an endless binary stream stops too).
+  EXPECT_CONTAINS(r.output, "not a text file");
 }
 
 // Found by scripts/fuzz.py (seed 11): 21 stacked copies of two crossing squares printed 80 KB of
