@@ -137,6 +137,9 @@ immersion::SimplexMesh<D> mesh_immersion_with(const immersion::Immersions<D>& fo
                                               std::optional<double> edge_length, double radius_edge,
                                               double min_dihedral, std::optional<int> surface_resolution,
                                               std::optional<int> gap_resolution) {
+  // A usage error, as `immerse mesh --resolution N --background FILE` (exit 64): a plain
+  // ValueError, not InvalidInput (the input is not at fault).
+  if (resolution && background) throw py::value_error("resolution and background exclude each other");
   immersion::MeshOptions o;
   o.immersion = k;
   o.resolution = resolution;

@@ -205,6 +205,14 @@ class Arrays3D(Fixture):
         self.assertIn("threads: at most 1024", str(e.exception))
         with self.assertRaises(immersion.InvalidInput):
             immersion.mesh_immersion(immersion.find_immersions(immersion.Curves(squares())), resolution=0)
+        # resolution and background together: `immerse mesh` exits 64; was accepted (background won).
+        with open(self.path("bg.mesh"), "w") as f:
+            f.write("MeshVersionFormatted 1\nDimension 2\nVertices\n3\n0 0 0\n1 0 0\n0 1 0\nTriangles\n1\n1 2 3 0\nEnd\n")
+        for found_any in (found2 := immersion.find_immersions(immersion.Curves(squares())), found):
+            with self.assertRaises(ValueError) as e:
+                immersion.mesh_immersion(found_any, resolution=4, background=self.path("bg.mesh"))
+            self.assertNotIsInstance(e.exception, immersion.Error)
+            self.assertIn("resolution and background exclude each other", str(e.exception))
         # Curves take the surfaces' keywords and refuse the 3D-only ones by name (was a TypeError).
         found2 = immersion.find_immersions(immersion.Curves(squares()))
         for options in (dict(conforming=True, edge_length=0.1), dict(surface_resolution=8), dict(min_dihedral=5.0)):
