@@ -188,7 +188,7 @@ int read_input(Session& s, PreparedSurface& p) {
   if (extension_of(p.path) == ".obj") {
     if (const std::size_t lines = scan_obj_elements(p.path).lines; lines > 0)
       s.err() << "immerse: note: '" << p.path << "': " << plural(lines, "'l' line") << " (loose edges) ignored: "
-              << "a surface is read from its faces\n";
+              << "an OBJ with faces is a 3D surface, read from its faces\n";
   }
   return kExitOk;
 }
