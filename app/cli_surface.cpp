@@ -587,7 +587,7 @@ bool write_tet_outputs(Session& s, const CommandLine& cl, bool all, std::size_t 
                        const std::string& what_embedding, Json& entry) {
   Json& outputs = (entry["outputs"] = Json::object());
   if (auto path = cl.value("-o")) {
-    const std::string out = all ? numbered(*path, i) : *path;
+    const std::string out = all && !is_stream_output(*path) ? numbered(*path, i) : *path;  // /dev/null_0 is no device
     if (extension_of(out) == ".node") {
       const dim3::TetGenTexts texts = dim3::format_tetgen(mesh);
       const auto [node_path, ele_path] = dim3::tetgen_paths(out);
@@ -600,7 +600,7 @@ bool write_tet_outputs(Session& s, const CommandLine& cl, bool all, std::size_t 
     outputs["mesh"] = out;
   }
   if (auto path = cl.value("--embedding")) {
-    const std::string out = all ? numbered(*path, i) : *path;
+    const std::string out = all && !is_stream_output(*path) ? numbered(*path, i) : *path;  // /dev/null_0 is no device
     if (!s.write(out, dim3::format_embedding(embedding), what_embedding)) return false;
     outputs["embedding"] = out;
   }

@@ -200,6 +200,11 @@ TEST_F(CliContract, DevicesAreWrittenThroughWhateverTheirName) {
     EXPECT_EQ(r.code, 0) << input << "\n" << r.output;
     EXPECT_CONTAINS(r.output, "wrote /dev/null");
   }
+  // --all numbers its files (OUT_K.ext), but not a device's name: /dev/null_0 would be a new file.
+  const Outcome all = run("mesh t.obj --resolution 3 --all -o /dev/null --embedding /dev/null");
+  EXPECT_EQ(all.code, 0) << all.output;
+  EXPECT_EQ(all.output.find("/dev/null_0"), std::string::npos) << all.output;
+  EXPECT_FALSE(fs::exists("/dev/null_0"));
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
 }
 
