@@ -159,6 +159,35 @@ TEST(GradedBackground, MinimumDihedralBoundIsFortyFiveDegrees) {
   EXPECT_NEAR(graded_min_dihedral_bound(), 45.0, 1e-9);
 }
 
+// The dihedral angles of the report are scale-free: products of coordinates near 1e300
+// overflowed (every normal NaN: "min 180, max 0") and near 1e-300 underflowed.
+TEST(GradedBackground, DihedralAnglesAreTheSameAtEveryScale) {
+  // The Kuhn tet: 45, 60 and 90 degrees (acos of its unit normals' products, worked by hand).
+  TetMesh kuhn;
+  kuhn.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}};
+  kuhn.tets = {{0, 1, 2, 3}};
+  const Surface s = torus(12);
+  const GradedBackground unit = make_graded_background(s, bounding_box(s), sizes(2, 8));
+  ASSERT_TRUE(unit.report.ok()) << unit.report.summary();
+  for (double scale : {1e300, 3e-300, 0x1p990, 0x1p-990}) {
+    TetMesh m = kuhn;
+    for (Point3& p : m.vertices)
+      for (double& x : p) x *= scale;
+    const auto range = dihedral_range(m);
+    EXPECT_NEAR(range[0], 45.0, 1e-9) << scale;
+    EXPECT_NEAR(range[1], 90.0, 1e-9) << scale;
+    Surface scaled = s;
+    for (Point3& p : scaled.vertices)
+      for (double& x : p) x *= scale;
+    const GradedBackground g = make_graded_background(scaled, bounding_box(scaled), sizes(2, 8));
+    ASSERT_TRUE(g.report.ok()) << g.report.summary();
+    EXPECT_EQ(g.mesh.tets.size(), unit.mesh.tets.size()) << scale;
+    EXPECT_NEAR(g.stats.min_dihedral_deg, unit.stats.min_dihedral_deg, 1e-9) << scale;
+    EXPECT_NEAR(g.stats.max_dihedral_deg, unit.stats.max_dihedral_deg, 1e-9) << scale;
+    EXPECT_GE(g.stats.min_dihedral_deg, graded_min_dihedral_bound() - 1e-9) << scale;
+  }
+}
+
 TEST(GradedBackground, SizeOrderIsCheckedOnceAndWordedInTheCallersNames) {
   const GradedOptionNames names{"far", "surface", "gap"};
   EXPECT_EQ(graded_order_error(sizes(8, 32, 0), names), "");
