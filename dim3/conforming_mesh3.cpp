@@ -86,22 +86,64 @@ constexpr std::size_t kSteinerExtra = 20000;
 
 Plc make_plc(const Complex& complex);
 
-/// An upper bound of the volume TetGen fills: the sum of the cones' volumes from the centroid of
-/// the points to the cut triangles (doubles; an estimate for the work bound only).
-double plc_volume_bound(const Plc& plc) {
+/// `v` times a power of two that brings its largest component into [1, 2) (v unchanged when it
+/// is zero): angles and signs of products computed from it do not overflow or underflow at any
+/// scale of the input (|x| <= 1e300 down to 1e-300). Exact unless a much smaller component
+/// becomes subnormal (report-only quantities).
+std::array<double, 3> scaled(std::array<double, 3> v) {
+  const double big = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
+  if (!(big > 0) || !std::isfinite(big)) return v;
+  const int e = std::ilogb(big);
+  for (double& x : v) x = std::ldexp(x, -e);
+  return v;
+}
+
+/// log10 of an upper bound of the volume TetGen fills: the sum of the cones' volumes from the
+/// centroid of the points to the cut triangles (doubles, for the work bound only). In log10 with
+/// the differences scaled by a power of two, so that neither a box of 1e300 (volume 1e900) nor
+/// one of 1e-300 over- or underflows; -infinity for no volume.
+double plc_volume_bound_log10(const Plc& plc) {
   double c[3] = {0, 0, 0};
   for (const P3& p : plc.points)
     for (int a = 0; a < 3; ++a) c[a] += p[a] / static_cast<double>(plc.points.size());
+  double big = 0.0;
+  for (const P3& p : plc.points)
+    for (int a = 0; a < 3; ++a) big = std::max(big, std::abs(p[a] - c[a]));
+  if (!(big > 0) || !std::isfinite(big)) return -std::numeric_limits<double>::infinity();
+  const int e = std::ilogb(big);  // differences times 2^-e are below 2
   double sum = 0.0;
   for (const auto& f : plc.facets) {
     double m[3][3];
     for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) m[k][a] = plc.points[static_cast<std::size_t>(f[static_cast<std::size_t>(k)])][a] - c[a];
+      for (int a = 0; a < 3; ++a)
+        m[k][a] = std::ldexp(plc.points[static_cast<std::size_t>(f[static_cast<std::size_t>(k)])][a] - c[a], -e);
     const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
                        m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
     sum += std::abs(det) / 6.0;
   }
-  return sum;
+  return std::log10(sum) + 3.0 * e * std::log10(2.0);
+}
+
+/// The magnitude whose log10 is `l`, printed as `std::setprecision(digits) << 10^l` prints it,
+/// also beyond the range of doubles ("4.57e+901", not "inf"); "0" for l = -infinity.
+std::string format_log10(double l, int digits) {
+  if (std::isinf(l) && l < 0) return "0";
+  std::ostringstream out;
+  if (std::abs(l) < 300) {
+    out << std::setprecision(digits) << std::pow(10.0, l);
+    return out.str();
+  }
+  if (!std::isfinite(l)) return "inf";
+  double e = std::floor(l);
+  char mantissa[64];
+  std::snprintf(mantissa, sizeof mantissa, "%.*g", digits, std::pow(10.0, l - e));
+  if (std::strtod(mantissa, nullptr) >= 10.0) {  // 9.9996 rounded up to 10
+    e += 1;
+    std::snprintf(mantissa, sizeof mantissa, "%.*g", digits, std::pow(10.0, l - e));
+  }
+  char exponent[32];
+  std::snprintf(exponent, sizeof exponent, "e%c%02.0f", e < 0 ? '-' : '+', std::abs(e));
+  return std::string(mantissa) + exponent;
 }
 
 Plc make_plc(const Complex& complex) {
@@ -382,21 +424,35 @@ TetgenOutput run_tetgen(tetgenio& in, std::string switches) {
   return result;
 }
 
-/// Dihedral angles (degrees) and radius-edge ratio of a tet, in doubles (report only).
+/// Dihedral angles (degrees) and radius-edge ratio of a tet, in doubles (report only). Computed
+/// on the edges from p[0] scaled by a power of two to about 1 (both are scale-free), so that
+/// they are right at any scale: the products of a tet of 1e110 overflowed (min 90 degrees,
+/// radius-edge inf) and those of a tet of 1e-110 underflowed.
 void tet_quality(const std::array<Point3, 4>& p, std::array<double, 6>& angles, double& radius_edge) {
   using V = std::array<double, 3>;
-  const auto sub = [](const Point3& a, const Point3& b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  const auto sub = [](const V& a, const V& b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
   const auto cross = [](const V& a, const V& b) {
     return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
   };
   const auto dot = [](const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  std::array<V, 4> q{};
+  double big = 0.0;
+  for (int k = 1; k < 4; ++k) {
+    q[k] = {p[k][0] - p[0][0], p[k][1] - p[0][1], p[k][2] - p[0][2]};
+    for (double x : q[k]) big = std::max(big, std::abs(x));
+  }
+  if (big > 0 && std::isfinite(big)) {
+    const int e = std::ilogb(big);
+    for (int k = 1; k < 4; ++k)
+      for (double& x : q[k]) x = std::ldexp(x, -e);
+  }
   // Face k is opposite corner k; its outward normal. The dihedral angle at the edge shared by
   // faces i and j is pi minus the angle between their outward normals.
   std::array<V, 4> normal{};
   for (int k = 0; k < 4; ++k) {
     const int a = (k + 1) % 4, b = (k + 2) % 4, c = (k + 3) % 4;
-    V n = cross(sub(p[b], p[a]), sub(p[c], p[a]));
-    if (dot(n, sub(p[k], p[a])) > 0) n = {-n[0], -n[1], -n[2]};
+    V n = scaled(cross(sub(q[b], q[a]), sub(q[c], q[a])));
+    if (dot(n, sub(q[k], q[a])) > 0) n = {-n[0], -n[1], -n[2]};
     const double len = std::sqrt(dot(n, n));
     normal[k] = {n[0] / len, n[1] / len, n[2] / len};
   }
@@ -407,11 +463,12 @@ void tet_quality(const std::array<Point3, 4>& p, std::array<double, 6>& angles, 
   double shortest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j) {
-      const V d = sub(p[i], p[j]);
+      const V d = sub(q[i], q[j]);
       shortest = std::min(shortest, std::sqrt(dot(d, d)));
     }
-  const P3 centre = CGAL::circumcenter(point(p[0]), point(p[1]), point(p[2]), point(p[3]));
-  const double radius = std::sqrt(CGAL::squared_distance(centre, point(p[0])));
+  const auto at = [&](int k) { return P3(q[k][0], q[k][1], q[k][2]); };
+  const P3 centre = CGAL::circumcenter(at(0), at(1), at(2), at(3));
+  const double radius = std::sqrt(CGAL::squared_distance(centre, at(0)));
   radius_edge = radius / shortest;
 }
 
@@ -453,7 +510,7 @@ std::unordered_map<EdgeKey, double> cell_wedges(const Plc& plc, const Complex& c
     if (xs.size() < 2) continue;
     const auto a = static_cast<std::int32_t>(key >> 32), b = static_cast<std::int32_t>(key & 0xffffffffu);
     const P3& A = plc.points[static_cast<std::size_t>(a)];
-    Vec axis = sub(plc.points[static_cast<std::size_t>(b)], A);
+    Vec axis = scaled(sub(plc.points[static_cast<std::size_t>(b)], A));
     const double length = std::sqrt(dot(axis, axis));
     for (double& c : axis) c /= length;
     // Per cut triangle: its third corner's direction off the edge.
@@ -461,10 +518,10 @@ std::unordered_map<EdgeKey, double> cell_wedges(const Plc& plc, const Complex& c
       std::int32_t c = -1;
       for (std::int32_t v : plc.facets[x])
         if (v != a && v != b) c = v;
-      Vec w = sub(plc.points[static_cast<std::size_t>(c)], A);
+      Vec w = scaled(sub(plc.points[static_cast<std::size_t>(c)], A));
       const double along = dot(w, axis);
       for (int d = 0; d < 3; ++d) w[d] -= along * axis[d];
-      return w;
+      return scaled(w);
     };
     const Vec u0 = off_edge(xs[0]);
     around.clear();
@@ -478,8 +535,9 @@ std::unordered_map<EdgeKey, double> cell_wedges(const Plc& plc, const Complex& c
       const auto [phi, x] = around[i];
       const double next = i + 1 < around.size() ? around[i + 1].first : around[0].first + 2.0 * M_PI;
       const auto& f = plc.facets[x];
-      const Vec normal = cross(sub(plc.points[static_cast<std::size_t>(f[1])], plc.points[static_cast<std::size_t>(f[0])]),
-                               sub(plc.points[static_cast<std::size_t>(f[2])], plc.points[static_cast<std::size_t>(f[0])]));
+      const Vec normal =
+          cross(scaled(sub(plc.points[static_cast<std::size_t>(f[1])], plc.points[static_cast<std::size_t>(f[0])])),
+                scaled(sub(plc.points[static_cast<std::size_t>(f[2])], plc.points[static_cast<std::size_t>(f[0])])));
       const PatchSides& sides = cc.sides(complex.cut_triangle_patch[x]);
       const RegionId region = dot(normal, cross(axis, off_edge(x))) > 0 ? sides.positive : sides.negative;
       const CellId cell = cc.cell_of(region);
@@ -496,7 +554,7 @@ std::pair<double, double> triangle_angle_range(const P3& p0, const P3& p1, const
   const std::array<const P3*, 3> p{&p0, &p1, &p2};
   double lo = 180.0, hi = 0.0;
   for (int i = 0; i < 3; ++i) {
-    const Vec u = sub(*p[(i + 1) % 3], *p[i]), v = sub(*p[(i + 2) % 3], *p[i]);
+    const Vec u = scaled(sub(*p[(i + 1) % 3], *p[i])), v = scaled(sub(*p[(i + 2) % 3], *p[i]));
     const double angle = std::acos(std::clamp(dot(u, v) / std::sqrt(dot(u, u) * dot(v, v)), -1.0, 1.0)) * 180.0 / M_PI;
     lo = std::min(lo, angle);
     hi = std::max(hi, angle);
@@ -548,11 +606,31 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
   tetgenio in;
   in.firstnumber = 0;
   in.numberofpoints = static_cast<int>(plc.points.size());
+  // TetGen's predicates and volumes are doubles of degree up to 5 in the coordinates: a box of
+  // 1e110 overflows them (1e550), one of 1e-110 underflows them. Outside 2^+-100 TetGen works on
+  // the points times 2^-scale, which brings the box to about 1; the factor is a power of two, so
+  // the points are the same doubles after scaling back (checked; else unscaled, and the check
+  // after TetGen says what went wrong).
+  int scale = 0;
+  {
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) lo[a] = hi[a] = plc.points.empty() ? 0.0 : plc.points[0][a];
+    for (const P3& p : plc.points)
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], p[a]);
+        hi[a] = std::max(hi[a], p[a]);
+      }
+    const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    if (longest > 0 && std::isfinite(longest) && std::abs(std::ilogb(longest)) > 100) scale = std::ilogb(longest);
+    for (const P3& p : plc.points)
+      for (int a = 0; a < 3 && scale != 0; ++a)
+        if (std::ldexp(std::ldexp(p[a], -scale), scale) != p[a]) scale = 0;
+  }
   in.pointlist = new double[plc.points.size() * 3];
   for (std::size_t v = 0; v < plc.points.size(); ++v) {
-    in.pointlist[3 * v] = plc.points[v].x();
-    in.pointlist[3 * v + 1] = plc.points[v].y();
-    in.pointlist[3 * v + 2] = plc.points[v].z();
+    in.pointlist[3 * v] = std::ldexp(plc.points[v].x(), -scale);
+    in.pointlist[3 * v + 1] = std::ldexp(plc.points[v].y(), -scale);
+    in.pointlist[3 * v + 2] = std::ldexp(plc.points[v].z(), -scale);
   }
   in.numberoffacets = static_cast<int>(plc.facets.size());
   in.facetlist = new tetgenio::facet[plc.facets.size()];
@@ -576,20 +654,25 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
     if (options.min_dihedral > 0) switches += "/" + format_number(options.min_dihedral);
   }
   const double h = options.edge_length;
-  const double volume_bound = h * h * h / (6.0 * std::sqrt(2.0));
-  switches += "a" + format_number(volume_bound);
+  // In TetGen's coordinates (times 2^-scale).
+  const double h_scaled = std::ldexp(h, -scale);
+  switches += "a" + format_number(h_scaled * h_scaled * h_scaled / (6.0 * std::sqrt(2.0)));
   // Bounded work (issue 13). The tets the volume bound asks for: the domain TetGen fills lies
   // inside the cones from the centroid to the cut triangles (a ray from the centroid through an
   // enclosed point leaves through a triangle beyond it), so their volume bounds it. A tiny edge
-  // length is refused here, before TetGen runs out of memory.
-  const double estimate = plc_volume_bound(plc) / volume_bound;
-  if (!(estimate <= kMaxConformingTets)) {
+  // length is refused here, before TetGen runs out of memory. In log10: h^3 and the volume
+  // overflow doubles for boxes beyond about 1e102 (and underflow below 1e-102).
+  const double volume_log10 = plc_volume_bound_log10(plc);
+  const double estimate_log10 = volume_log10 - (3.0 * std::log10(h) - std::log10(6.0 * std::sqrt(2.0)));
+  if (!(estimate_log10 <= std::log10(kMaxConformingTets))) {
     std::ostringstream msg;
-    msg << "edge length " << h << " would fill the input (volume at most " << plc_volume_bound(plc) << ") with about "
-        << std::setprecision(3) << estimate << " tets; at most " << kMaxConformingTets << " (raise the edge length)";
+    msg << "edge length " << h << " would fill the input (volume at most " << format_log10(volume_log10, 6)
+        << ") with about " << format_log10(estimate_log10, 3) << " tets; at most " << kMaxConformingTets
+        << " (raise the edge length)";
     result.report.add(defect(DefectKind::OutOfRange, msg.str()));
     return result;
   }
+  const double estimate = std::pow(10.0, estimate_log10);  // at most 2e7; 0 for no volume
   // Quality refinement need not end: TetGen may not move the preserved cut triangles, and a
   // dihedral bound above ~20 degrees next to them (25 on tube-overlap) made it insert points
   // forever. -S caps the Steiner points (the meshes that finish are the same); reaching the cap
@@ -614,8 +697,8 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
   stats.seconds_tetgen = seconds_since(start);
   stats.tetgen_points = out.points.size() / 3;
   stats.tetgen_tets = out.tets.size() / 4;
-  log("conforming: TetGen -" + switches + ": " + std::to_string(stats.tetgen_tets) + " tets, " +
-      std::to_string(stats.tetgen_points) + " points");
+  log("conforming: TetGen -" + switches + (scale != 0 ? " on the points times 2^" + std::to_string(-scale) : "") + ": " +
+      std::to_string(stats.tetgen_tets) + " tets, " + std::to_string(stats.tetgen_points) + " points");
 
   // 3. Exact labels. Every check below is on TetGen's output doubles, with exact predicates.
   start = std::chrono::steady_clock::now();
@@ -629,7 +712,8 @@ ConformingResult mesh_conforming(const Complex& complex, const Immersion& immers
   };
   std::vector<Point3> vertices(stats.tetgen_points);
   for (std::size_t v = 0; v < vertices.size(); ++v)
-    vertices[v] = {out.points[3 * v], out.points[3 * v + 1], out.points[3 * v + 2]};
+    vertices[v] = {std::ldexp(out.points[3 * v], scale), std::ldexp(out.points[3 * v + 1], scale),
+                   std::ldexp(out.points[3 * v + 2], scale)};
   for (std::size_t v = 0; v < plc.points.size(); ++v)
     if (v >= vertices.size() || point(vertices[v]) != plc.points[v])
       return fail("TetGen moved or dropped cut-mesh point " + std::to_string(v) + " " +

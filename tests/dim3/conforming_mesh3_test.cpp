@@ -444,6 +444,98 @@ TEST(Conforming3, RoundedCutMeshChecksAreExact) {
   EXPECT_GT(defects({o, x, y}, {{0, 1, 2}, {0, 2, 1}}), 0u);
 }
 
+/// `surface` immersed (exact volumes: doubles overflow beyond 1e102) and meshed conformingly with
+/// edge length `edge_length`.
+Conformed conform_at(const Surface& surface, double edge_length) {
+  Conformed c;
+  c.im = immerse_surface(surface, ImmerseOptions{});
+  EXPECT_TRUE(c.im.build.report.ok()) << c.im.build.report.summary();
+  if (!c.im.build.complex || c.im.search.immersions.empty()) {
+    ADD_FAILURE() << "no immersion (" << to_string(c.im.search.status) << ")";
+    return c;
+  }
+  ConformingOptions options;
+  options.edge_length = edge_length;
+  c.mesh = mesh_conforming(*c.im.build.complex, c.im.search.immersions[0], options, c.im.input_vertices,
+                            c.im.input_triangles);
+  return c;
+}
+
+Surface scaled_by(Surface s, double factor) {
+  for (Point3& p : s.vertices)
+    for (double& x : p) x *= factor;
+  return s;
+}
+
+/// The corner tet (0, e1, e2, e3), outward triangles.
+Surface corner_tet() {
+  Surface s;
+  s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  s.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  return s;
+}
+
+// The documented coordinates reach 1e300 (and down to 1e-300). The work estimate computed h^3 and
+// the enclosed volume in doubles (a box of 1e110: "about nan tets", refused whatever the edge
+// length), TetGen's predicates overflowed, and the quality report said "min 90 deg,
+// radius-edge max inf" at 1e100. Each scale must give the unit tet's mesh and statistics.
+TEST(Conforming3, ExtremeScalesMeshLikeTheUnitScale) {
+  // The corner tet: dihedral angles 90 (three) and acos(1/sqrt 3) (three); circumradius
+  // sqrt(3)/2 over the shortest edge 1.
+  const double corner_angle = std::acos(1.0 / std::sqrt(3.0)) * 180.0 / std::acos(-1.0);
+  for (double scale : {1.0, 1e100, 1e110, 1e-110, 1e300, 1e-300}) {
+    const Surface s = scaled_by(corner_tet(), scale);
+    const Conformed c = conform_at(s, 0.5 * scale);
+    ASSERT_TRUE(c.mesh.report.ok()) << scale << ": " << c.mesh.report.summary();
+    ASSERT_EQ(c.mesh.mesh.tets.size(), 1u) << scale;
+    EXPECT_NEAR(c.mesh.stats.min_dihedral, corner_angle, 1e-9) << scale;
+    EXPECT_NEAR(c.mesh.stats.median_dihedral, 90.0, 1e-9) << scale;
+    EXPECT_NEAR(c.mesh.stats.max_radius_edge, std::sqrt(3.0) / 2.0, 1e-12) << scale;
+    EXPECT_NEAR(c.mesh.stats.min_cell_wedge, corner_angle, 1e-9) << scale;
+  }
+  // A refined mesh scaled by 2^+-365 (exact): the same tets on the same points times the factor,
+  // the same statistics to the bit.
+  const Surface tube = generated("tube-overlap", {"12"});
+  const Box3 box = bounding_box(tube);
+  const double edge = 0.08 * std::max({box.hi[0] - box.lo[0], box.hi[1] - box.lo[1], box.hi[2] - box.lo[2]});
+  const Conformed unit = conform_at(tube, edge);
+  check_conforming(unit);
+  for (double factor : {0x1p365, 0x1p-365}) {
+    const Conformed c = conform_at(scaled_by(tube, factor), edge * factor);
+    ASSERT_TRUE(c.mesh.report.ok()) << factor << ": " << c.mesh.report.summary();
+    EXPECT_EQ(c.mesh.mesh.tets, unit.mesh.mesh.tets) << factor;
+    ASSERT_EQ(c.mesh.mesh.vertices.size(), unit.mesh.mesh.vertices.size()) << factor;
+    for (std::size_t v = 0; v < c.mesh.mesh.vertices.size(); ++v)
+      for (int d = 0; d < 3; ++d)
+        ASSERT_EQ(c.mesh.mesh.vertices[v][d], unit.mesh.mesh.vertices[v][d] * factor) << factor << " vertex " << v;
+    EXPECT_EQ(c.mesh.stats.min_dihedral, unit.mesh.stats.min_dihedral) << factor;
+    EXPECT_EQ(c.mesh.stats.median_dihedral, unit.mesh.stats.median_dihedral) << factor;
+    EXPECT_EQ(c.mesh.stats.max_radius_edge, unit.mesh.stats.max_radius_edge) << factor;
+    EXPECT_EQ(c.mesh.stats.median_radius_edge, unit.mesh.stats.median_radius_edge) << factor;
+    EXPECT_EQ(c.mesh.stats.min_cell_wedge, unit.mesh.stats.min_cell_wedge) << factor;
+    EXPECT_EQ(c.mesh.stats.slivers, unit.mesh.stats.slivers) << factor;
+  }
+}
+
+// A refused edge length names the tets it would make as a finite number (README's example), not
+// "inf": the estimate is the volume bound (for a tet: its own volume, the cones from its centroid)
+// over the regular tet's volume h^3 / (6 sqrt 2), computed here in long double (to 1e4932).
+TEST(Conforming3, RefusedEdgeLengthNamesAFiniteEstimate) {
+  for (long double scale : {1.0L, 0x1p365L, 0x1p-365L}) {
+    const Surface s = scaled_by(corner_tet(), static_cast<double>(scale));
+    const Conformed c = conform_at(s, 1e-300);
+    ASSERT_FALSE(c.mesh.report.ok()) << scale;
+    const long double volume = scale * scale * scale / 6.0L;
+    const long double h = 1e-300L;
+    const long double estimate = volume / (h * h * h / (6.0L * std::sqrt(2.0L)));
+    char expected[200];
+    std::snprintf(expected, sizeof expected, "edge length 1e-300 would fill the input (volume at most %.6Lg) with about %.3Lg tets; at most 2e+07",
+                  volume, estimate);
+    EXPECT_NE(c.mesh.report.summary().find(expected), std::string::npos)
+        << c.mesh.report.summary() << "\n  expected: " << expected;
+  }
+}
+
 TEST(Conforming3, CheckerRejectsAWeldedOutput) {
   // The checker must fail a mesh whose copies were glued across an owned patch: weld every output
   // vertex to the first vertex at the same position (what gluing everything would give).
