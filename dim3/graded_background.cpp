@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 #include <bit>
 
 #include "core/union_find.h"
@@ -273,6 +274,15 @@ class Builder {
                       const std::array<Point3, 4>* tet = nullptr);
   void refine(const Node& n, const std::vector<std::uint32_t>& candidates);
   void too_many();
+  /// Called per tet made: a progress message every options_.progress_every tets.
+  void made_tet() {
+    if (!options_.progress || options_.progress_every == 0 || leaves_.size() % options_.progress_every != 0) return;
+    options_.progress("graded background: " + std::to_string(leaves_.size()) + " tets so far (" +
+                      (closing_ ? "closure sweep " + std::to_string(out_.stats.closure_sweeps)
+                                : std::to_string(base_done_) + " of " + std::to_string(out_.stats.base_tets) +
+                                      " base tets refined") +
+                      "; at most " + std::to_string(options_.max_tets) + ")");
+  }
 
   const Surface& surface_;
   const GradedOptions& options_;
@@ -286,6 +296,8 @@ class Builder {
   int surface_level_ = 0, gap_level_ = 0;
   std::int32_t base_cube_ = 0;
   bool overflow_ = false;
+  std::size_t base_done_ = 0;  ///< base tets refined so far (progress)
+  bool closing_ = false;       ///< in the closure (progress)
 };
 
 void Builder::too_many() {
@@ -373,6 +385,7 @@ void Builder::refine(const Node& n, const std::vector<std::uint32_t>& candidates
     leaves_.push_back(n);
     leaf_near_.push_back(static_cast<char>(meets ? 1 : 0));
     if (leaves_.size() > options_.max_tets) too_many();
+    made_tet();
     return;
   }
   for (const Node& child : bisect(n)) refine(child, near);
@@ -463,6 +476,14 @@ void Builder::run(const Box3& box, int attempt) {
   st.surface_levels = levels;
   st.gap_levels = gap_levels;
   st.base_tets = static_cast<std::size_t>(base_count);
+  if (options_.progress) {
+    std::ostringstream msg;
+    msg << "graded background: " << st.base_tets << " base tets of side " << st.far_size << ", refined to "
+        << st.surface_size << " at the surface";
+    if (gap_levels > 0) msg << " and " << st.gap_size << " at near self-intersections";
+    msg << " (at most " << options_.max_tets << " tets)";
+    options_.progress(msg.str());
+  }
 
   // Input triangles in lattice units; triangles listed per base cube (grown by one cube).
   tri_points_.resize(surface_.vertices.size());
@@ -515,11 +536,13 @@ void Builder::run(const Box3& box, int attempt) {
             n.v[i + 1] = vertex(c);
           }
           refine(n, list);
+          ++base_done_;
         }
       }
   if (overflow_) return;
 
   // Closure: sweep until no tet has a vertex at the midpoint of one of its edges.
+  closing_ = true;
   std::size_t closure = 0;
   for (bool changed = true; changed && !overflow_;) {
     changed = false;
@@ -536,6 +559,7 @@ void Builder::run(const Box3& box, int attempt) {
           too_many();
           return;
         }
+        made_tet();
       }
     }
   }

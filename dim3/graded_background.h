@@ -44,6 +44,11 @@ struct GradedOptions {
   int gap_resolution = 0;
   /// Stop with an OutOfRange defect instead of building more tets than this.
   std::size_t max_tets = 50'000'000;
+  /// Progress while building (a large background takes tens of seconds before it is done or
+  /// refused): the sizes at the start, then every `progress_every` tets made, the count so far
+  /// and the base tets refined.
+  LogCallback progress;
+  std::size_t progress_every = 4'000'000;
 };
 
 /// How a front end names the three resolutions (the program's flags or the library's fields).

@@ -286,7 +286,9 @@ MeshResult mesh_immersion(const Complex& complex, const Immersion& immersion, co
     start = std::chrono::steady_clock::now();
     Point3 shift{0, 0, 0};
     if (options.graded) {
-      GradedBackground graded = make_graded_background(complex.surface, box, *options.graded, attempt);
+      GradedOptions graded_options = *options.graded;
+      if (!graded_options.progress) graded_options.progress = options.progress;
+      GradedBackground graded = make_graded_background(complex.surface, box, graded_options, attempt);
       if (!graded.report.ok()) {
         result.report = std::move(graded.report);
         return result;
