@@ -31,6 +31,12 @@ namespace {
 using Lattice = std::array<std::int32_t, 3>;
 constexpr int kLatticeBits = 21;  // per axis, packed into one 64-bit key
 constexpr std::int32_t kLatticeLimit = 1 << kLatticeBits;
+/// The counting pass before building (Builder::run) runs when the input's area, in cube faces
+/// at the surface size, times this exceeds max_tets. Backgrounds make about 25 tets per cube
+/// face of area (sphere, torus, two-tori, helix, tube-overlap at surface resolutions 64-512), so
+/// one that fits seldom pays for the count, and one of more than about 1.6 times the maximum is
+/// refused by it.
+constexpr double kCountingPassCells = 16.0;
 
 /// As make_grid_background's shift (dim3/background3.cpp), so that a graded and a uniform grid
 /// with the same base cube start from the same lattice planes; see there for why these numbers.
@@ -273,6 +279,16 @@ class Builder {
   bool several_pieces(const std::vector<std::uint32_t>& list, const DBox& box,
                       const std::array<Point3, 4>* tet = nullptr);
   void refine(const Node& n, const std::vector<std::uint32_t>& candidates);
+  /// A tet by its lattice corners (the counting pass makes no vertices).
+  struct Corners {
+    std::array<Lattice, 4> p;
+    int level = 0;
+  };
+  /// Adds to count_ the leaves refine() would make from `n` by the surface rule alone (no gap
+  /// refinement, no closure), with refine()'s own tests on the same candidate lists: every such
+  /// leaf is a leaf of the build or is split further by it, so count_ is a lower bound of its
+  /// tets. Stops once count_ exceeds the maximum.
+  void count_surface_leaves(const Corners& n, const std::vector<std::uint32_t>& candidates);
   void too_many();
   /// Called per tet made: a progress message every options_.progress_every tets.
   void made_tet() {
@@ -296,6 +312,9 @@ class Builder {
   int surface_level_ = 0, gap_level_ = 0;
   std::int32_t base_cube_ = 0;
   bool overflow_ = false;
+  std::size_t count_ = 0;      ///< count_surface_leaves's leaves
+  std::size_t count_reported_ = 0;  ///< the count the last progress message gave
+  std::vector<std::vector<std::uint32_t>> count_lists_;  ///< count_surface_leaves's lists per level
   std::size_t base_done_ = 0;  ///< base tets refined so far (progress)
   bool closing_ = false;       ///< in the closure (progress)
 };
@@ -389,6 +408,65 @@ void Builder::refine(const Node& n, const std::vector<std::uint32_t>& candidates
     return;
   }
   for (const Node& child : bisect(n)) refine(child, near);
+}
+
+void Builder::count_surface_leaves(const Corners& n, const std::vector<std::uint32_t>& candidates) {
+  if (count_ > options_.max_tets) return;
+  // As refine(): the candidates near the tet (its box grown by one element), those touching it.
+  const double side = static_cast<double>(base_cube_ >> (n.level / 3));
+  DBox own, grown;
+  for (int d = 0; d < 3; ++d) {
+    std::int32_t lo = n.p[0][d], hi = lo;
+    for (int i = 1; i < 4; ++i) {
+      lo = std::min(lo, n.p[i][d]);
+      hi = std::max(hi, n.p[i][d]);
+    }
+    own.lo[d] = lo;
+    own.hi[d] = hi;
+    grown.lo[d] = lo - side;
+    grown.hi[d] = hi + side;
+  }
+  auto boxes_meet = [](const DBox& a, const DBox& b) {
+    for (int d = 0; d < 3; ++d)
+      if (a.lo[d] > b.hi[d] || b.lo[d] > a.hi[d]) return false;
+    return true;
+  };
+  // One list per level, reused (sized before the pass: the parents' lists stay in place).
+  std::vector<std::uint32_t>& near = count_lists_[static_cast<std::size_t>(n.level)];
+  near.clear();
+  for (std::uint32_t t : candidates)
+    if (boxes_meet(tri_boxes_[t], grown) && triangle_meets_box(triangle(t), grown)) near.push_back(t);
+  std::array<Point3, 4> corners;
+  for (int i = 0; i < 4; ++i)
+    for (int d = 0; d < 3; ++d) corners[i][d] = static_cast<double>(n.p[i][d]);
+  bool meets = false;
+  for (std::uint32_t t : near)
+    if (boxes_meet(tri_boxes_[t], own) && triangle_meets_tet(triangle(t), corners)) {
+      meets = true;
+      break;
+    }
+  const std::size_t leaves = !(meets && n.level < surface_level_) ? 1
+                             : n.level + 1 >= surface_level_    ? 2  // children at the surface level: leaves
+                                                                : 0;
+  if (leaves > 0) {
+    count_ += leaves;
+    if (options_.progress && options_.progress_every > 0 && count_ >= count_reported_ + options_.progress_every) {
+      count_reported_ = count_ - count_ % options_.progress_every;
+      options_.progress("graded background: counting before building: " + std::to_string(count_reported_) +
+                        " tets counted (at most " + std::to_string(options_.max_tets) + ")");
+    }
+    return;
+  }
+  // bisect()'s children, on lattice points.
+  const int k = tag(n.level);
+  Lattice m{};
+  for (int d = 0; d < 3; ++d) m[d] = (n.p[0][d] + n.p[k][d]) / 2;
+  Corners a{n.p, n.level + 1}, b{n.p, n.level + 1};
+  a.p[k] = m;
+  for (int i = 0; i < k; ++i) b.p[i] = n.p[i + 1];
+  b.p[k] = m;
+  count_surface_leaves(a, near);
+  count_surface_leaves(b, near);
 }
 
 void Builder::run(const Box3& box, int attempt) {
@@ -511,6 +589,48 @@ void Builder::run(const Box3& box, int attempt) {
     for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
       for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
         for (std::int64_t x = lo[0]; x <= hi[0]; ++x) per_cube[static_cast<std::size_t>(x + nx * (y + ny * z))].push_back(t);
+  }
+
+  // A background beyond max_tets took as long and as much memory to refuse as to build up to
+  // that size (35 s and 1.7 GB for 50 million tets). When the surface's area is large for the
+  // maximum at the surface size (kCountingPassCells), the surface refinement is first counted
+  // without building anything (count_surface_leaves: a lower bound of the tets, so a refusal
+  // here is true; about half the tets, at about a quarter of the time per tet, no memory).
+  {
+    double area = 0.0;  // in lattice units
+    for (std::uint32_t t = 0; t < surface_.triangles.size(); ++t) {
+      const auto c = triangle(t);
+      const Point3 u{c[1][0] - c[0][0], c[1][1] - c[0][1], c[1][2] - c[0][2]};
+      const Point3 v{c[2][0] - c[0][0], c[2][1] - c[0][1], c[2][2] - c[0][2]};
+      const Point3 n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+      area += 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    }
+    const double side = static_cast<double>(base_cube_ >> levels);
+    if (area / (side * side) * kCountingPassCells > static_cast<double>(options_.max_tets)) {
+      const int permutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+      count_lists_.resize(static_cast<std::size_t>(surface_level_) + 1);
+      for (std::int64_t z = 0; z < cubes[2] && count_ <= options_.max_tets; ++z)
+        for (std::int64_t y = 0; y < cubes[1] && count_ <= options_.max_tets; ++y)
+          for (std::int64_t x = 0; x < cubes[0] && count_ <= options_.max_tets; ++x)
+            for (const auto& p : permutations) {
+              Lattice c{static_cast<std::int32_t>(x * base_cube_), static_cast<std::int32_t>(y * base_cube_),
+                        static_cast<std::int32_t>(z * base_cube_)};
+              Corners n{{c, c, c, c}, 0};
+              for (int i = 0; i < 3; ++i) {
+                c[p[i]] += base_cube_;
+                n.p[i + 1] = c;
+              }
+              count_surface_leaves(n, per_cube[static_cast<std::size_t>(x + cubes[0] * (y + cubes[1] * z))]);
+            }
+      if (options_.progress)
+        options_.progress("graded background: the refinement toward the surface alone makes " +
+                          std::string(count_ > options_.max_tets ? "more than " : "") +
+                          std::to_string(std::min(count_, options_.max_tets)) + " tets (counted before building)");
+      if (count_ > options_.max_tets) {
+        too_many();
+        return;
+      }
+    }
   }
 
   // Base grid vertices first (x fastest), as the uniform grid orders them.

@@ -272,12 +272,63 @@ TEST(GradedBackground, ProgressIsReportedWhileBuilding) {
     closure_seen = closure_seen || messages[i].find("closure sweep") != std::string::npos;
   }
   EXPECT_TRUE(closure_seen) << "no message from the closure: not a test of it";
-  // A refused build reports until it stops.
-  o.max_tets = 2500;
+  // A build refused at its last tet reports until it stops (after the count before building,
+  // which the small maximum starts and which does not refuse it).
+  o.max_tets = g.stats.tets - 1;
   messages.clear();
   const GradedBackground refused = make_graded_background(s, bounding_box(s), o);
   EXPECT_FALSE(refused.report.ok());
-  EXPECT_EQ(messages.size(), 3u);
+  std::size_t so_far = 0;
+  for (const std::string& m : messages) so_far += m.find("tets so far") != std::string::npos;
+  EXPECT_EQ(so_far, (g.stats.tets - 1) / 1000);
+}
+
+// A background beyond max_tets is refused by counting the surface refinement before building
+// (the count is a lower bound of the tets, so the refusal is true), and a background that fits
+// is never refused by the count: ten copies of one torus on top of each other have ten times the
+// area (which starts the count) for about the tets of one.
+TEST(GradedBackground, TooManyTetsIsCountedBeforeBuildingAndOnlyWhenTrue) {
+  const Surface one = torus(8);
+  Surface ten;
+  for (int copy = 0; copy < 10; ++copy) {
+    const auto base = static_cast<std::uint32_t>(ten.vertices.size());
+    ten.vertices.insert(ten.vertices.end(), one.vertices.begin(), one.vertices.end());
+    for (const Triangle& t : one.triangles) ten.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  const GradedBackground full = make_graded_background(ten, bounding_box(ten), sizes(2, 16));
+  ASSERT_TRUE(full.report.ok()) << full.report.summary();
+  std::vector<std::string> messages;
+  GradedOptions o = sizes(2, 16);
+  o.progress = [&](const std::string& m) { messages.push_back(m); };
+  const auto counted = [&] {
+    for (const std::string& m : messages)
+      if (m.find("counted before building") != std::string::npos) return m;
+    return std::string();
+  };
+  // Exactly the tets it needs: built, the same mesh, after a count that did not refuse.
+  o.max_tets = full.stats.tets;
+  const GradedBackground fits = make_graded_background(ten, bounding_box(ten), o);
+  ASSERT_TRUE(fits.report.ok()) << fits.report.summary();
+  EXPECT_EQ(fits.mesh.tets, full.mesh.tets);
+  EXPECT_EQ(fits.mesh.vertices, full.mesh.vertices);
+  EXPECT_NE(counted(), "") << "the count did not run: not a test of it";
+  EXPECT_EQ(counted().find("more than"), std::string::npos) << counted();
+  // A tenth of it: refused by the count, before any tet is built (no "tets so far"), which says
+  // its progress.
+  messages.clear();
+  o.max_tets = full.stats.tets / 10;
+  o.progress_every = 1;
+  const GradedBackground refused = make_graded_background(ten, bounding_box(ten), o);
+  EXPECT_FALSE(refused.report.ok());
+  EXPECT_NE(refused.report.summary().find("more than " + std::to_string(o.max_tets) + " tets"), std::string::npos)
+      << refused.report.summary();
+  EXPECT_NE(counted().find("more than " + std::to_string(o.max_tets) + " tets"), std::string::npos) << counted();
+  std::size_t counting = 0;
+  for (const std::string& m : messages) {
+    EXPECT_EQ(m.find("tets so far"), std::string::npos) << m;
+    counting += m.find("tets counted") != std::string::npos;
+  }
+  EXPECT_GE(2 * counting, o.max_tets);  // one per count reached (they grow by 1 or 2)
 }
 
 TEST(GradedBackground, MeshIsTheSameOnOneAndTwoThreads) {
