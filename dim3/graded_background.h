@@ -45,8 +45,8 @@ struct GradedOptions {
   /// Stop with an OutOfRange defect instead of building more tets than this.
   std::size_t max_tets = 50'000'000;
   /// Progress while building (a large background takes tens of seconds before it is done or
-  /// refused): the sizes at the start, then every `progress_every` tets made, the count so far
-  /// and the base tets refined.
+  /// refused): the sizes at the start, then every `progress_every` tets counted (the count
+  /// before building, when it runs) or made (with the base tets refined, or the closure sweep).
   LogCallback progress;
   std::size_t progress_every = 4'000'000;
 };
