@@ -20,10 +20,13 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "core/medit.h"
 #include "core/text_io.h"
+#include "core/union_find.h"
 #include "dim2/cut_curve.h"
 #include "dim2/kernel.h"
 #include "dim2/mesh2_detail.h"
@@ -252,6 +255,102 @@ Defect make_defect(DefectKind kind, std::string message) {
   return d;
 }
 
+/// Pieces of a read background (triangles joined across shared edges) that overlap: two meshes
+/// in one file, an unglued output (its copies overlap by design) reused as a background.
+/// Triangles on the same side of a shared edge (a fold) are refused where the edges are paired
+/// (dim2/virtual_triangles.cpp); here, two pieces overlap iff a triangle of one and a triangle
+/// of the other have intersecting interiors (the overlap is open), decided exactly for the pairs
+/// whose boxes meet; pieces that only touch are fine. The first pair in (triangle, triangle)
+/// order is reported. One piece (most files): nothing more than the pairing. NOT detected: one
+/// piece overlapping itself away from its shared edges (a strip wound round onto itself, a
+/// vertex star wound twice around).
+void check_pieces(const TriangleMesh& mesh, ValidationReport& report) {
+  const auto& triangles = mesh.triangles;
+  struct EdgeRef {
+    int a, b;  // a < b
+    std::uint32_t triangle;
+    auto operator<=>(const EdgeRef&) const = default;
+  };
+  std::vector<EdgeRef> edges;
+  edges.reserve(3 * triangles.size());
+  for (std::uint32_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int u = triangles[t][k], v = triangles[t][(k + 1) % 3];
+      edges.push_back({std::min(u, v), std::max(u, v), t});
+    }
+  std::sort(edges.begin(), edges.end());
+  UnionFind pieces(triangles.size());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
+    if (j - i > 2) return;  // an edge shared by more triangles: reported where edges are paired
+    if (j - i == 2) pieces.unite(edges[i].triangle, edges[i + 1].triangle);
+    i = j;
+  }
+  std::vector<std::uint32_t> piece(triangles.size());
+  bool several = false;
+  for (std::uint32_t t = 0; t < triangles.size(); ++t) {
+    piece[t] = pieces.find(t);
+    several = several || piece[t] != piece[0];
+  }
+  if (!several) return;
+  const auto point = [&](int v) { return Epick::Point_2(mesh.vertices[v].x, mesh.vertices[v].y); };
+  // Exact (Epick's predicates on the doubles): the triangles are counter-clockwise (read_medit_2d),
+  // so an edge line of one with the other wholly on its right or on it separates them.
+  const auto separated = [&](std::uint32_t t, std::uint32_t u) {
+    for (int k = 0; k < 3; ++k) {
+      bool all = true;
+      for (int m = 0; m < 3 && all; ++m)
+        all = CGAL::orientation(point(triangles[t][k]), point(triangles[t][(k + 1) % 3]), point(triangles[u][m])) !=
+              CGAL::LEFT_TURN;
+      if (all) return true;
+    }
+    return false;
+  };
+  struct Box {
+    double xmin, xmax, ymin, ymax;
+  };
+  std::vector<Box> box(triangles.size());
+  for (std::uint32_t t = 0; t < triangles.size(); ++t) {
+    const Point& p = mesh.vertices[triangles[t][0]];
+    box[t] = {p.x, p.x, p.y, p.y};
+    for (int k = 1; k < 3; ++k) {
+      const Point& q = mesh.vertices[triangles[t][k]];
+      box[t] = {std::min(box[t].xmin, q.x), std::max(box[t].xmax, q.x), std::min(box[t].ymin, q.y),
+                std::max(box[t].ymax, q.y)};
+    }
+  }
+  std::vector<std::uint32_t> by_x(triangles.size());
+  std::iota(by_x.begin(), by_x.end(), 0u);
+  std::sort(by_x.begin(), by_x.end(), [&](std::uint32_t t, std::uint32_t u) {
+    return std::pair(box[t].xmin, t) < std::pair(box[u].xmin, u);
+  });
+  std::optional<std::pair<std::uint32_t, std::uint32_t>> first;
+  for (std::size_t i = 0; i < by_x.size(); ++i) {
+    const std::uint32_t t = by_x[i];
+    for (std::size_t j = i + 1; j < by_x.size() && box[by_x[j]].xmin <= box[t].xmax; ++j) {
+      const std::uint32_t u = by_x[j];
+      if (piece[t] == piece[u] || box[u].ymin > box[t].ymax || box[t].ymin > box[u].ymax) continue;
+      const std::pair<std::uint32_t, std::uint32_t> pair{std::min(t, u), std::max(t, u)};
+      if (first && !(pair < *first)) continue;
+      if (separated(t, u) || separated(u, t)) continue;
+      first = pair;
+    }
+  }
+  if (!first) return;
+  const auto [t, u] = *first;
+  const Point& p = mesh.vertices[triangles[t][0]];
+  Defect d = make_defect(DefectKind::InconsistentOrientation,
+                         "background triangles overlap: triangles " + std::to_string(t) + " and " + std::to_string(u) +
+                             ", in different pieces of the background (triangles joined across edges), overlap near " +
+                             format_point(p) +
+                             ": the background would be meshed twice there (an unglued output has overlapping copies "
+                             "by design and cannot be a background: pass the glued mesh, or none)");
+  d.facets = {static_cast<long>(t), static_cast<long>(u)};
+  d.points = {{p.x, p.y}};
+  report.add(std::move(d));
+}
+
 }  // namespace
 
 TriangleMesh read_medit_2d(const std::string& path, ValidationReport& report) {
@@ -336,6 +435,8 @@ Background make_background(const Complex2& complex, const MeshOptions& options,
   if (options.background_path) {
     TriangleMesh mesh = read_medit_2d(*options.background_path, report);
     Background out;
+    if (!report.ok()) return out;
+    check_pieces(mesh, report);
     if (!report.ok()) return out;
     out.vertices = std::move(mesh.vertices);
     out.triangles = std::move(mesh.triangles);

@@ -41,6 +41,7 @@
 // union-find over the input-free adjacencies, seeded by the sides of pieces; a component without
 // any piece is located by one exact segment shooting against the whole cut mesh.
 #include <CGAL/Interval_nt.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
@@ -1160,18 +1161,40 @@ class VirtualTets {
     // with the smallest key, no sort of them all).
     // Two tets paired across two faces have the same four vertices (one tet twice): a defect,
     // since an adjacency's face is the three vertices its two tets share (LocalRegions::face).
+    // Overlaps across a face: the two tets of an interior face must lie on opposite sides of it.
+    // Tets are positive (TetMesh), so t's own vertex f is on the positive side of its face f in
+    // kFace order, and s's vertex opposite the face must be strictly on the negative side (exact:
+    // Epick's filtered predicate on the doubles). Once per face, from the smaller tet; each chunk
+    // keeps its face with the smallest key, so the one reported is the same for every thread count.
+    using Folded = std::pair<std::array<int, 3>, std::uint32_t>;  // face key, face 4 t + f
     std::vector<std::pair<std::array<int, 3>, std::uint32_t>> shared_by_more;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> same_vertices;
+    std::optional<Folded> folded;
+    std::size_t folded_count = 0;
+    // The background's pieces (tets joined across interior faces), rooted at their smallest tet:
+    // one piece unless tet 0 is not every tet's root (see check_pieces).
+    MinRootUnionFind pieces(tet_count, threads_);
     {
       std::vector<std::vector<std::uint32_t>> chunk_boundary(tet_chunks);
       std::vector<std::vector<std::pair<std::array<int, 3>, std::uint32_t>>> chunk_shared(tet_chunks);
       std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> chunk_same(tet_chunks);
+      std::vector<std::optional<Folded>> chunk_folded(tet_chunks);
+      std::vector<std::size_t> chunk_folded_count(tet_chunks, 0);
       parallel_for(threads_, tet_chunks, [&](std::size_t chunk, unsigned) {
         for (std::size_t i = 4 * chunk * kTetChunk; i < 4 * std::min(tet_count, (chunk + 1) * kTetChunk); ++i) {
           const auto face = static_cast<std::uint32_t>(i);
           if (neighbour[i] == kBoundaryFace) chunk_boundary[chunk].push_back(face);
           if (neighbour[i] == kSharedByMore) chunk_shared[chunk].emplace_back(key_of(face / 4, static_cast<int>(face % 4)), face);
-          if (neighbour[i] >= kSharedByMore || face % 4 == 0) continue;
+          if (neighbour[i] >= kSharedByMore) continue;
+          if (face / 4 < neighbour[i] / 4) {
+            pieces.unite(face / 4, neighbour[i] / 4);
+            if (!opposite_sides(face, neighbour[i])) {
+              ++chunk_folded_count[chunk];
+              Folded f{key_of(face / 4, static_cast<int>(face % 4)), face};
+              if (!chunk_folded[chunk] || f < *chunk_folded[chunk]) chunk_folded[chunk] = f;
+            }
+          }
+          if (face % 4 == 0) continue;
           const std::uint32_t t = face / 4, s = neighbour[i] / 4;
           for (std::uint32_t g = 4 * t; g < face; ++g)
             if (neighbour[g] < kSharedByMore && neighbour[g] / 4 == s && t < s) chunk_same[chunk].emplace_back(t, s);
@@ -1181,8 +1204,26 @@ class VirtualTets {
         boundary_.insert(boundary_.end(), chunk_boundary[chunk].begin(), chunk_boundary[chunk].end());
         shared_by_more.insert(shared_by_more.end(), chunk_shared[chunk].begin(), chunk_shared[chunk].end());
         same_vertices.insert(same_vertices.end(), chunk_same[chunk].begin(), chunk_same[chunk].end());
+        folded_count += chunk_folded_count[chunk];
+        if (chunk_folded[chunk] && (!folded || *chunk_folded[chunk] < *folded)) folded = chunk_folded[chunk];
       }
     }
+    if (folded && shared_by_more.empty() && same_vertices.empty()) {
+      const std::uint32_t t = folded->second / 4, s = neighbour[folded->second] / 4;
+      const std::array<int, 3>& key = folded->first;
+      const std::string face = "(" + std::to_string(key[0]) + ", " + std::to_string(key[1]) + ", " +
+                               std::to_string(key[2]) + ")";
+      background_defect(DefectKind::InconsistentOrientation,
+                        "background tets overlap: tets " + std::to_string(t) + " and " + std::to_string(s) +
+                            " lie on the same side of their shared face " + face + " near " +
+                            format_point(bg_.vertices[static_cast<std::size_t>(key[0])]) +
+                            (folded_count > 1 ? " (" + std::to_string(folded_count) + " faces like this)" : "") +
+                            ": the background mesh is folded (an inverted or dragged vertex) and would be meshed twice there",
+                        key);
+    } else if (shared_by_more.empty() && same_vertices.empty()) {
+      check_pieces(pieces);
+    }
+    pieces.release();
     std::sort(same_vertices.begin(), same_vertices.end());
     same_vertices.erase(std::unique(same_vertices.begin(), same_vertices.end()), same_vertices.end());
     for (const auto& [t, s] : same_vertices) report_.add(same_vertices_defect(t, s, bg_.tets[t]));
@@ -1193,7 +1234,9 @@ class VirtualTets {
       const std::array<int, 3>& key = shared_by_more[i].first;
       background_defect(DefectKind::NonManifoldEdge, "background face (" + std::to_string(key[0]) + ", " +
                                                          std::to_string(key[1]) + ", " + std::to_string(key[2]) +
-                                                         ") is shared by " + std::to_string(j - i) + " tets",
+                                                         ") is shared by " + std::to_string(j - i) +
+                                                             " tets (an unglued output of immerse has such faces by "
+                                                             "design: it cannot be a background)",
                         key);
       i = j;
     }
@@ -1266,6 +1309,116 @@ class VirtualTets {
         at = std::copy(list.begin(), list.end(), at);
       }
     }, /*grain=*/1);
+  }
+
+  /// Pieces of the background that overlap (two grids in one file, an unglued output reused as a
+  /// background, ...). Pieces are the tets joined across interior faces; a background of one
+  /// piece (tet 0 every tet's root: one parallel pass) costs nothing more. Otherwise two pieces
+  /// overlap iff a tet of one and a tet of the other have intersecting interiors (the overlap is
+  /// open, so it meets open tets of both); pieces that only touch (a shared or coincident face,
+  /// edge or vertex) are fine. The tet pairs of different pieces whose boxes meet are tested
+  /// exactly, in (tet, tet) order, and the first overlapping pair is reported: the same for
+  /// every thread count. NOT detected here: one piece overlapping itself away from its
+  /// interior faces (a slab bent round onto itself, a vertex star wound twice around); folds
+  /// and inverted tets are found across the faces (opposite_sides).
+  void check_pieces(MinRootUnionFind& pieces) {
+    const std::size_t tet_count = bg_.tets.size();
+    std::atomic<bool> several{false};
+    parallel_blocks(threads_, tet_count, 1 << 14, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t t = begin; t < end && !several.load(std::memory_order_relaxed); ++t)
+        if (pieces.find(static_cast<std::uint32_t>(t)) != 0) several = true;
+    });
+    if (!several) return;
+    std::vector<std::uint32_t> piece(tet_count);
+    parallel_blocks(threads_, tet_count, 1 << 14, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t t = begin; t < end; ++t) piece[t] = pieces.find(static_cast<std::uint32_t>(t));
+    });
+    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+    std::vector<Box> boxes;
+    boxes.reserve(tet_count);
+    for (std::uint32_t t = 0; t < tet_count; ++t) {
+      CGAL::Bbox_3 box;
+      for (int v : bg_.tets[t]) {
+        const Point3& p = bg_.vertices[static_cast<std::size_t>(v)];
+        box += CGAL::Bbox_3(p[0], p[1], p[2], p[0], p[1], p[2]);
+      }
+      boxes.emplace_back(box, t);
+    }
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+      if (piece[a.info()] != piece[b.info()]) pairs.emplace_back(std::min(a.info(), b.info()), std::max(a.info(), b.info()));
+    });
+    std::sort(pairs.begin(), pairs.end());
+    for (const auto& [t, u] : pairs) {
+      if (!interiors_meet(t, u)) continue;
+      const Tet& a = bg_.tets[t];
+      background_defect(DefectKind::InconsistentOrientation,
+                        "background tets overlap: tets " + std::to_string(t) + " and " + std::to_string(u) +
+                            ", in different pieces of the background (tets joined across faces), overlap near " +
+                            format_point(bg_.vertices[static_cast<std::size_t>(a[0])]) +
+                            ": the background would be meshed twice there (an unglued output has overlapping "
+                            "copies by design and cannot be a background: pass the glued mesh, or none)",
+                        {a[0], a[1], a[2]});
+      return;
+    }
+  }
+
+  /// Whether the interiors of background tets t and u intersect: exact separating-axis test
+  /// (two convex polytopes have disjoint interiors iff a plane parallel to a face of one, or to
+  /// an edge of each, separates them weakly).
+  [[nodiscard]] bool interiors_meet(std::uint32_t t, std::uint32_t u) const {
+    std::array<Point, 4> a, b;
+    for (int k = 0; k < 4; ++k) {
+      a[k] = background_point<EK>(static_cast<std::size_t>(bg_.tets[t][k]));
+      b[k] = background_point<EK>(static_cast<std::size_t>(bg_.tets[u][k]));
+    }
+    // Faces: the tet's own vertex f is on the positive side of face f (kFace order).
+    const auto face_separates = [](const std::array<Point, 4>& x, const std::array<Point, 4>& y) {
+      for (int f = 0; f < 4; ++f) {
+        bool all = true;
+        for (int k = 0; k < 4 && all; ++k)
+          all = CGAL::orientation(x[kFace[f][0]], x[kFace[f][1]], x[kFace[f][2]], y[k]) != CGAL::POSITIVE;
+        if (all) return true;
+      }
+      return false;
+    };
+    if (face_separates(a, b) || face_separates(b, a)) return false;
+    constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+    for (const auto& ea : kEdge)
+      for (const auto& eb : kEdge) {
+        const EK::Vector_3 d = a[ea[1]] - a[ea[0]], e = b[eb[1]] - b[eb[0]];
+        const EK::Vector_3 n = CGAL::cross_product(d, e);
+        if (n == CGAL::NULL_VECTOR) continue;
+        // Sides of the plane through a[ea[0]] with normal n.
+        int a_pos = 0, a_neg = 0, b_pos = 0, b_neg = 0;
+        for (int k = 0; k < 4; ++k) {
+          const CGAL::Sign sa = CGAL::sign(n * (a[k] - a[ea[0]]));
+          const CGAL::Sign sb = CGAL::sign(n * (b[k] - a[ea[0]]));
+          a_pos += sa == CGAL::POSITIVE;
+          a_neg += sa == CGAL::NEGATIVE;
+          b_pos += sb == CGAL::POSITIVE;
+          b_neg += sb == CGAL::NEGATIVE;
+        }
+        if ((a_pos == 0 && b_neg == 0) || (a_neg == 0 && b_pos == 0)) return false;
+      }
+    return true;
+  }
+
+  /// Whether the tets of interior face `face` (4 t + f) and its neighbour `other` (4 s + g) lie
+  /// on opposite sides of it. Both tets are positive (TetMesh: exact orientation on read), so
+  /// each tet's own vertex lies on the positive side of its face in kFace order: the tets are on
+  /// opposite sides iff the two tets give the face opposite vertex orders (s's order is not a
+  /// rotation of t's). Exact and combinatorial (no predicate).
+  [[nodiscard]] bool opposite_sides(std::uint32_t face, std::uint32_t other) const {
+    const Tet& t = bg_.tets[face / 4];
+    const Tet& s = bg_.tets[other / 4];
+    const int* f = kFace[face % 4];
+    const int* g = kFace[other % 4];
+    const int a = t[f[0]], b = t[f[1]];
+    // s's face order, rotated to start at a: then b second means the same orientation.
+    for (int k = 0; k < 3; ++k)
+      if (s[g[k]] == a) return s[g[(k + 1) % 3]] != b;
+    return false;  // not the same face: unreachable
   }
 
   /// The traces of tet t on face f (traces_ is in (tet, face, triangle) order).
