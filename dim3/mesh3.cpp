@@ -273,9 +273,17 @@ MeshResult mesh_immersion(const Complex& complex, const Immersion& immersion, co
     TetReadResult read = read_tet_mesh(*options.background_path, options.threads);
     result.report = std::move(read.report);
     result.background = std::move(read.mesh);
+    // Tets of either orientation are accepted and turned: a file of negative tets follows the
+    // other convention, and a mixed file is either ordered inconsistently (a valid mesh) or
+    // folded, which the face pairing refuses (two tets on the same side of their face).
     if (read.reoriented > 0)
-      log("meshing: " + std::to_string(read.reoriented) + " background tets were negatively oriented and turned");
+      log("meshing: " + std::to_string(read.reoriented) + " of " + std::to_string(result.background.tets.size()) +
+          " background tets were negatively oriented and turned");
     if (!result.report.ok()) return result;
+    if (options.method == MeshMethod::Csg) {
+      result.report = detail::check_background_overlap(result.background);
+      if (!result.report.ok()) return result;
+    }
   }
   result.stats.seconds_background += seconds_since(start);
   detail::LocalRegions local;

@@ -146,6 +146,12 @@ LocalRegions compute_local_regions(const Complex& complex, const TetMesh& backgr
 /// checking and timing the clipping path, not for production; `progress` (may be empty) hears
 /// every few seconds how far it got. Non-generic contacts set `non_generic` and add a Touching
 /// defect, as there; the result is then incomplete.
+/// A read background whose tets overlap (dim3/virtual_tets.cpp): two tets on the same side of
+/// their shared face (a fold, an inverted tet), or pieces (tets joined across faces) with
+/// intersecting interiors; the first defect, or none. compute_local_regions checks the same while
+/// it pairs the faces; the CSG baseline, which fails on such a background, is given it first.
+ValidationReport check_background_overlap(const TetMesh& background);
+
 LocalRegions compute_local_regions_csg(const Complex& complex, const TetMesh& background, bool record_embedded,
                                        unsigned threads, const LogCallback& progress, ValidationReport& report,
                                        bool& non_generic);

@@ -105,6 +105,108 @@ void prefix_sum(unsigned threads, std::vector<T>& a) {
   }, /*grain=*/1);
 }
 
+/// Whether the tets of interior face `face` (4 t + f) and its neighbour `other` (4 s + g) lie
+/// on opposite sides of it. Both tets are positive (TetMesh: exact orientation on read), so
+/// each tet's own vertex lies on the positive side of its face in kFace order: the tets are on
+/// opposite sides iff the two tets give the face opposite vertex orders (s's order is not a
+/// rotation of t's). Exact and combinatorial (no predicate).
+bool opposite_sides(const TetMesh& bg, std::uint32_t face, std::uint32_t other) {
+  const Tet& t = bg.tets[face / 4];
+  const Tet& s = bg.tets[other / 4];
+  const int* f = kFace[face % 4];
+  const int* g = kFace[other % 4];
+  const int a = t[f[0]], b = t[f[1]];
+  // s's face order, rotated to start at a: then b second means the same orientation.
+  for (int k = 0; k < 3; ++k)
+    if (s[g[k]] == a) return s[g[(k + 1) % 3]] != b;
+  return false;  // not the same face: unreachable
+}
+
+/// Whether the interiors of (positive) background tets t and u intersect: exact separating-axis
+/// test (two convex polytopes have disjoint interiors iff a plane parallel to a face of one, or
+/// to an edge of each, separates them weakly).
+bool interiors_meet(const TetMesh& bg, std::uint32_t t, std::uint32_t u) {
+  std::array<Point, 4> a, b;
+  for (int k = 0; k < 4; ++k) {
+    const Point3& p = bg.vertices[static_cast<std::size_t>(bg.tets[t][k])];
+    const Point3& q = bg.vertices[static_cast<std::size_t>(bg.tets[u][k])];
+    a[k] = Point(p[0], p[1], p[2]);
+    b[k] = Point(q[0], q[1], q[2]);
+  }
+  // Faces: the tet's own vertex f is on the positive side of face f (kFace order).
+  const auto face_separates = [](const std::array<Point, 4>& x, const std::array<Point, 4>& y) {
+    for (int f = 0; f < 4; ++f) {
+      bool all = true;
+      for (int k = 0; k < 4 && all; ++k)
+        all = CGAL::orientation(x[kFace[f][0]], x[kFace[f][1]], x[kFace[f][2]], y[k]) != CGAL::POSITIVE;
+      if (all) return true;
+    }
+    return false;
+  };
+  if (face_separates(a, b) || face_separates(b, a)) return false;
+  constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  for (const auto& ea : kEdge)
+    for (const auto& eb : kEdge) {
+      const EK::Vector_3 n = CGAL::cross_product(a[ea[1]] - a[ea[0]], b[eb[1]] - b[eb[0]]);
+      if (n == CGAL::NULL_VECTOR) continue;
+      // Sides of the plane through a[ea[0]] with normal n.
+      int a_pos = 0, a_neg = 0, b_pos = 0, b_neg = 0;
+      for (int k = 0; k < 4; ++k) {
+        const CGAL::Sign sa = CGAL::sign(n * (a[k] - a[ea[0]]));
+        const CGAL::Sign sb = CGAL::sign(n * (b[k] - a[ea[0]]));
+        a_pos += sa == CGAL::POSITIVE;
+        a_neg += sa == CGAL::NEGATIVE;
+        b_pos += sb == CGAL::POSITIVE;
+        b_neg += sb == CGAL::NEGATIVE;
+      }
+      if ((a_pos == 0 && b_neg == 0) || (a_neg == 0 && b_pos == 0)) return false;
+    }
+  return true;
+}
+
+/// Pieces of the background that overlap (two grids in one file, an unglued output reused as a
+/// background, ...), given each tet's piece (tets joined across interior faces). Two pieces
+/// overlap iff a tet of one and a tet of the other have intersecting interiors (the overlap is
+/// open, so it meets open tets of both); pieces that only touch (a shared or coincident face,
+/// edge or vertex) are fine. The tet pairs of different pieces whose boxes meet are tested
+/// exactly, in (tet, tet) order, and the first overlapping pair is reported: the same for every
+/// thread count. NOT detected: one piece overlapping itself away from its interior faces (a
+/// slab bent round onto itself, a vertex star wound twice around); folds and inverted tets are
+/// found across the faces (opposite_sides).
+std::optional<Defect> overlapping_pieces(const TetMesh& bg, const std::vector<std::uint32_t>& piece) {
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+  std::vector<Box> boxes;
+  boxes.reserve(bg.tets.size());
+  for (std::uint32_t t = 0; t < bg.tets.size(); ++t) {
+    CGAL::Bbox_3 box;
+    for (int v : bg.tets[t]) {
+      const Point3& p = bg.vertices[static_cast<std::size_t>(v)];
+      box += CGAL::Bbox_3(p[0], p[1], p[2], p[0], p[1], p[2]);
+    }
+    boxes.emplace_back(box, t);
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+    if (piece[a.info()] != piece[b.info()]) pairs.emplace_back(std::min(a.info(), b.info()), std::max(a.info(), b.info()));
+  });
+  std::sort(pairs.begin(), pairs.end());
+  for (const auto& [t, u] : pairs) {
+    if (!interiors_meet(bg, t, u)) continue;
+    const Tet& a = bg.tets[t];
+    Defect d;
+    d.kind = DefectKind::InconsistentOrientation;
+    d.stage = "background";
+    d.message = "background tets overlap: tets " + std::to_string(t) + " and " + std::to_string(u) +
+                ", in different pieces of the background (tets joined across faces), overlap near " +
+                format_point(bg.vertices[static_cast<std::size_t>(a[0])]) +
+                ": the background would be meshed twice there (an unglued output has overlapping copies by "
+                "design and cannot be a background: pass the glued mesh, or none)";
+    d.vertices = {a[0], a[1], a[2], a[3]};
+    return d;
+  }
+  return std::nullopt;
+}
+
 /// A vertex of a clipped polygon.
 template <class K>
 struct ClipVertexT {
@@ -1311,16 +1413,8 @@ class VirtualTets {
     }, /*grain=*/1);
   }
 
-  /// Pieces of the background that overlap (two grids in one file, an unglued output reused as a
-  /// background, ...). Pieces are the tets joined across interior faces; a background of one
-  /// piece (tet 0 every tet's root: one parallel pass) costs nothing more. Otherwise two pieces
-  /// overlap iff a tet of one and a tet of the other have intersecting interiors (the overlap is
-  /// open, so it meets open tets of both); pieces that only touch (a shared or coincident face,
-  /// edge or vertex) are fine. The tet pairs of different pieces whose boxes meet are tested
-  /// exactly, in (tet, tet) order, and the first overlapping pair is reported: the same for
-  /// every thread count. NOT detected here: one piece overlapping itself away from its
-  /// interior faces (a slab bent round onto itself, a vertex star wound twice around); folds
-  /// and inverted tets are found across the faces (opposite_sides).
+  /// Pieces of the background that overlap (overlapping_pieces): only when it has more than one
+  /// piece, which costs one parallel pass over the tets to see (tet 0 every tet's root).
   void check_pieces(MinRootUnionFind& pieces) {
     const std::size_t tet_count = bg_.tets.size();
     std::atomic<bool> several{false};
@@ -1333,92 +1427,11 @@ class VirtualTets {
     parallel_blocks(threads_, tet_count, 1 << 14, [&](std::size_t begin, std::size_t end) {
       for (std::size_t t = begin; t < end; ++t) piece[t] = pieces.find(static_cast<std::uint32_t>(t));
     });
-    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
-    std::vector<Box> boxes;
-    boxes.reserve(tet_count);
-    for (std::uint32_t t = 0; t < tet_count; ++t) {
-      CGAL::Bbox_3 box;
-      for (int v : bg_.tets[t]) {
-        const Point3& p = bg_.vertices[static_cast<std::size_t>(v)];
-        box += CGAL::Bbox_3(p[0], p[1], p[2], p[0], p[1], p[2]);
-      }
-      boxes.emplace_back(box, t);
-    }
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
-      if (piece[a.info()] != piece[b.info()]) pairs.emplace_back(std::min(a.info(), b.info()), std::max(a.info(), b.info()));
-    });
-    std::sort(pairs.begin(), pairs.end());
-    for (const auto& [t, u] : pairs) {
-      if (!interiors_meet(t, u)) continue;
-      const Tet& a = bg_.tets[t];
-      background_defect(DefectKind::InconsistentOrientation,
-                        "background tets overlap: tets " + std::to_string(t) + " and " + std::to_string(u) +
-                            ", in different pieces of the background (tets joined across faces), overlap near " +
-                            format_point(bg_.vertices[static_cast<std::size_t>(a[0])]) +
-                            ": the background would be meshed twice there (an unglued output has overlapping "
-                            "copies by design and cannot be a background: pass the glued mesh, or none)",
-                        {a[0], a[1], a[2]});
-      return;
-    }
+    if (auto d = overlapping_pieces(bg_, piece)) report_.add(std::move(*d));
   }
 
-  /// Whether the interiors of background tets t and u intersect: exact separating-axis test
-  /// (two convex polytopes have disjoint interiors iff a plane parallel to a face of one, or to
-  /// an edge of each, separates them weakly).
-  [[nodiscard]] bool interiors_meet(std::uint32_t t, std::uint32_t u) const {
-    std::array<Point, 4> a, b;
-    for (int k = 0; k < 4; ++k) {
-      a[k] = background_point<EK>(static_cast<std::size_t>(bg_.tets[t][k]));
-      b[k] = background_point<EK>(static_cast<std::size_t>(bg_.tets[u][k]));
-    }
-    // Faces: the tet's own vertex f is on the positive side of face f (kFace order).
-    const auto face_separates = [](const std::array<Point, 4>& x, const std::array<Point, 4>& y) {
-      for (int f = 0; f < 4; ++f) {
-        bool all = true;
-        for (int k = 0; k < 4 && all; ++k)
-          all = CGAL::orientation(x[kFace[f][0]], x[kFace[f][1]], x[kFace[f][2]], y[k]) != CGAL::POSITIVE;
-        if (all) return true;
-      }
-      return false;
-    };
-    if (face_separates(a, b) || face_separates(b, a)) return false;
-    constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-    for (const auto& ea : kEdge)
-      for (const auto& eb : kEdge) {
-        const EK::Vector_3 d = a[ea[1]] - a[ea[0]], e = b[eb[1]] - b[eb[0]];
-        const EK::Vector_3 n = CGAL::cross_product(d, e);
-        if (n == CGAL::NULL_VECTOR) continue;
-        // Sides of the plane through a[ea[0]] with normal n.
-        int a_pos = 0, a_neg = 0, b_pos = 0, b_neg = 0;
-        for (int k = 0; k < 4; ++k) {
-          const CGAL::Sign sa = CGAL::sign(n * (a[k] - a[ea[0]]));
-          const CGAL::Sign sb = CGAL::sign(n * (b[k] - a[ea[0]]));
-          a_pos += sa == CGAL::POSITIVE;
-          a_neg += sa == CGAL::NEGATIVE;
-          b_pos += sb == CGAL::POSITIVE;
-          b_neg += sb == CGAL::NEGATIVE;
-        }
-        if ((a_pos == 0 && b_neg == 0) || (a_neg == 0 && b_pos == 0)) return false;
-      }
-    return true;
-  }
-
-  /// Whether the tets of interior face `face` (4 t + f) and its neighbour `other` (4 s + g) lie
-  /// on opposite sides of it. Both tets are positive (TetMesh: exact orientation on read), so
-  /// each tet's own vertex lies on the positive side of its face in kFace order: the tets are on
-  /// opposite sides iff the two tets give the face opposite vertex orders (s's order is not a
-  /// rotation of t's). Exact and combinatorial (no predicate).
   [[nodiscard]] bool opposite_sides(std::uint32_t face, std::uint32_t other) const {
-    const Tet& t = bg_.tets[face / 4];
-    const Tet& s = bg_.tets[other / 4];
-    const int* f = kFace[face % 4];
-    const int* g = kFace[other % 4];
-    const int a = t[f[0]], b = t[f[1]];
-    // s's face order, rotated to start at a: then b second means the same orientation.
-    for (int k = 0; k < 3; ++k)
-      if (s[g[k]] == a) return s[g[(k + 1) % 3]] != b;
-    return false;  // not the same face: unreachable
+    return detail::opposite_sides(bg_, face, other);
   }
 
   /// The traces of tet t on face f (traces_ is in (tet, face, triangle) order).
@@ -1574,6 +1587,60 @@ LocalRegions compute_local_regions(const Complex& complex, const TetMesh& backgr
   }
   return VirtualTets(complex, background, shift, record_embedded, threads, interval_filter, report, non_generic)
       .run();
+}
+
+ValidationReport check_background_overlap(const TetMesh& background) {
+  ValidationReport report;
+  const std::size_t n = background.tets.size();
+  if (n > kMaxBackgroundTets) return report;  // refused by compute_local_regions*
+  std::vector<std::pair<std::array<int, 3>, std::uint32_t>> faces;
+  faces.reserve(4 * n);
+  for (std::uint32_t t = 0; t < n; ++t)
+    for (int f = 0; f < 4; ++f) {
+      std::array<int, 3> key = {background.tets[t][kFace[f][0]], background.tets[t][kFace[f][1]],
+                                background.tets[t][kFace[f][2]]};
+      std::sort(key.begin(), key.end());
+      faces.emplace_back(key, 4 * t + static_cast<std::uint32_t>(f));
+    }
+  std::sort(faces.begin(), faces.end());
+  UnionFind pieces(n);
+  for (std::size_t i = 0; i < faces.size();) {
+    std::size_t j = i + 1;
+    while (j < faces.size() && faces[j].first == faces[i].first) ++j;
+    if (j - i > 2) return report;  // a face shared by more tets: reported where faces are paired
+    if (j - i == 2) {
+      const std::uint32_t face = faces[i].second, other = faces[i + 1].second;
+      Tet a = background.tets[face / 4], b = background.tets[other / 4];
+      std::sort(a.begin(), a.end());
+      std::sort(b.begin(), b.end());
+      if (a == b) return report;  // one tet twice: reported where faces are paired
+      if (!opposite_sides(background, face, other)) {
+        const std::array<int, 3>& key = faces[i].first;
+        Defect d;
+        d.kind = DefectKind::InconsistentOrientation;
+        d.stage = "background";
+        d.message = "background tets overlap: tets " + std::to_string(face / 4) + " and " +
+                    std::to_string(other / 4) + " lie on the same side of their shared face (" +
+                    std::to_string(key[0]) + ", " + std::to_string(key[1]) + ", " + std::to_string(key[2]) +
+                    ") near " + format_point(background.vertices[static_cast<std::size_t>(key[0])]) +
+                    ": the background mesh is folded (an inverted or dragged vertex) and would be meshed twice there";
+        d.vertices = {key[0], key[1], key[2]};
+        report.add(std::move(d));
+        return report;  // faces in key order: the smallest key, as the clipping path reports it
+      }
+      pieces.unite(face / 4, other / 4);
+    }
+    i = j;
+  }
+  std::vector<std::uint32_t> piece(n);
+  bool several = false;
+  for (std::uint32_t t = 0; t < n; ++t) {
+    piece[t] = pieces.find(t);
+    several = several || piece[t] != piece[0];
+  }
+  if (several)
+    if (auto d = overlapping_pieces(background, piece)) report.add(std::move(*d));
+  return report;
 }
 
 }  // namespace imm::dim3::detail
