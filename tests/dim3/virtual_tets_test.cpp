@@ -3,6 +3,7 @@
 // embeddings. And a background that touches the input non-generically (an input vertex on a tet
 // face, an input edge along a tet edge) is handled by an explicit translation whose size the
 // result reports, with every output tet still accounted for.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -471,6 +472,214 @@ TEST(VirtualTets, TwoTetsWithTheSameVerticesAreReported) {
     for (const Defect& d : report.defects)
       if (d.kind == DefectKind::DuplicateFacet && d.message == "background tets 0 and 1 have the same vertices") ++found;
     EXPECT_EQ(found, 1u) << report.summary();
+  }
+}
+
+// ---- backgrounds whose tets overlap ------------------------------------------------------------
+// A background that covers some space twice would mesh it twice (the material doubled). Such a
+// file is refused with the tets named: a fold (a vertex dragged across its neighbours: two tets
+// on the same side of their shared face) and pieces that overlap (two grids in one file, an
+// unglued output reused), on the clipping and the CSG path, the same message on every thread
+// count. Files that only look unusual are still meshed: every tet negative (the other
+// convention), some tets listed negatively in a valid mesh, separate pieces that only touch.
+
+/// Meshes the unit sphere on the background written to a .veg file.
+MeshResult mesh_on(const TetMesh& background, const std::string& name, unsigned threads,
+                   MeshMethod method = MeshMethod::Clip) {
+  static const Prepared p = [] {
+    const SurfaceGenerateResult g = generate_surface("sphere", {});
+    EXPECT_TRUE(g.ok()) << g.error;
+    return prepare(g.surface);
+  }();
+  const std::string path = testing::TempDir() + "/" + name + ".veg";
+  {
+    std::ofstream out(path);
+    out << format_veg(background);
+  }
+  MeshOptions options;
+  options.background_path = path;
+  options.threads = threads;
+  options.method = method;
+  return mesh_immersion(p.complex(), p.immersion(), options, p.im.input_vertices, p.im.input_triangles);
+}
+
+/// Two tet meshes in one: b's vertices after a's.
+TetMesh concatenate(const TetMesh& a, const TetMesh& b) {
+  TetMesh out = a;
+  const int n = static_cast<int>(a.vertices.size());
+  out.vertices.insert(out.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (Tet t : b.tets) {
+    for (int& v : t) v += n;
+    out.tets.push_back(t);
+  }
+  out.reference.assign(out.tets.size(), 0);
+  return out;
+}
+
+TetMesh translated(TetMesh m, const Point3& d) {
+  for (Point3& v : m.vertices)
+    for (int k = 0; k < 3; ++k) v[k] += d[k];
+  return m;
+}
+
+/// The one defect of a refused background, the same on 1, 2 and 3 threads (and on the CSG
+/// path when `csg`).
+Defect refused(const TetMesh& background, const std::string& name, bool csg = true) {
+  std::vector<std::string> messages;
+  Defect first;
+  for (const unsigned threads : {1u, 2u, 3u}) {
+    const MeshResult r = mesh_on(background, name, threads);
+    EXPECT_FALSE(r.report.ok()) << "threads " << threads;
+    if (r.report.defects.empty()) return first;
+    EXPECT_EQ(r.report.defects.size(), 1u) << r.report.summary();
+    if (threads == 1) first = r.report.defects.front();
+    messages.push_back(r.report.defects.front().message);
+  }
+  if (csg) {
+    const MeshResult r = mesh_on(background, name, 1, MeshMethod::Csg);
+    EXPECT_FALSE(r.report.ok());
+    if (!r.report.defects.empty()) EXPECT_EQ(r.report.defects.front().message.substr(0, 60), messages[0].substr(0, 60));
+  }
+  for (const std::string& m : messages) EXPECT_EQ(m, messages[0]);
+  return first;
+}
+
+const TetMesh& grid() {
+  static const TetMesh g = make_grid_background(Box3{{-2, -2, -2}, {2, 2, 2}}, 6, 0);
+  return g;
+}
+
+/// Integers read from `text` after each of `marks`, in order.
+std::vector<long> numbers_after(const std::string& text, const std::vector<std::string>& marks) {
+  std::vector<long> out;
+  std::size_t at = 0;
+  for (const std::string& m : marks) {
+    at = text.find(m, at);
+    if (at == std::string::npos) return {};
+    at += m.size();
+    out.push_back(std::stol(text.substr(at)));
+  }
+  return out;
+}
+
+TEST(BackgroundOverlap, FoldedBackgroundIsRefusedNamingTwoTetsOnOneSideOfTheirFace) {
+  // Drag the interior vertex nearest the origin past its neighbours: the tets around it fold.
+  TetMesh folded = grid();
+  std::size_t v = 0;
+  for (std::size_t i = 0; i < folded.vertices.size(); ++i) {
+    const auto norm = [](const Point3& p) { return std::abs(p[0]) + std::abs(p[1]) + std::abs(p[2]); };
+    if (norm(folded.vertices[i]) < norm(folded.vertices[v])) v = i;
+  }
+  folded.vertices[v] = {folded.vertices[v][0] + 0.93, folded.vertices[v][1] + 0.117, folded.vertices[v][2] + 0.051};
+  const Defect d = refused(folded, "folded");
+  EXPECT_EQ(d.stage, "background");
+  EXPECT_NE(d.message.find("background tets overlap"), std::string::npos) << d.message;
+  // Independently: the named tets share the named face and their other vertices lie strictly on
+  // the same side of it (exact orientation), as the file gives them (the reader only reorders).
+  const std::vector<long> n = numbers_after(d.message, {": tets ", " and ", "face (", ", ", ", "});
+  ASSERT_EQ(n.size(), 5u) << d.message;
+  const TetReadResult read = read_tet_mesh(testing::TempDir() + "/folded.veg");
+  ASSERT_TRUE(read.report.ok());
+  EXPECT_GT(read.reoriented, 0u);
+  EXPECT_LT(read.reoriented, read.mesh.tets.size());
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  const auto point = [&](long i) {
+    const Point3& p = read.mesh.vertices[static_cast<std::size_t>(i)];
+    return K::Point_3(p[0], p[1], p[2]);
+  };
+  std::vector<CGAL::Orientation> sides;
+  for (const long t : {n[0], n[1]}) {
+    const Tet& tet = read.mesh.tets[static_cast<std::size_t>(t)];
+    int other = -1, shared = 0;
+    for (int x : tet) {
+      if (x == n[2] || x == n[3] || x == n[4]) ++shared;
+      else other = x;
+    }
+    ASSERT_EQ(shared, 3) << "tet " << t << " does not have face " << d.message;
+    sides.push_back(CGAL::orientation(point(n[2]), point(n[3]), point(n[4]), point(other)));
+  }
+  EXPECT_NE(sides[0], CGAL::COPLANAR);
+  EXPECT_EQ(sides[0], sides[1]) << d.message;
+}
+
+TEST(BackgroundOverlap, OverlappingGridsAreRefusedNamingATetOfEach) {
+  const TetMesh both = concatenate(grid(), translated(grid(), {0.1, 0.1, 0.1}));
+  const Defect d = refused(both, "two_grids");
+  EXPECT_NE(d.message.find("background tets overlap"), std::string::npos) << d.message;
+  EXPECT_NE(d.message.find("different pieces"), std::string::npos) << d.message;
+  EXPECT_NE(d.message.find("unglued"), std::string::npos) << d.message;
+  const std::vector<long> n = numbers_after(d.message, {": tets ", " and "});
+  ASSERT_EQ(n.size(), 2u) << d.message;
+  const auto first_grid = static_cast<long>(grid().tets.size());
+  EXPECT_LT(n[0], first_grid);
+  EXPECT_GE(n[1], first_grid);
+}
+
+TEST(BackgroundOverlap, GridInsideAnotherIsRefused) {
+  // Nothing crosses: the small grid lies wholly inside one big grid's tets' union.
+  const TetMesh small = make_grid_background(Box3{{-1.7, -1.6, -1.5}, {-1.2, -1.3, -1.1}}, 2, 0);
+  const Defect d = refused(concatenate(grid(), small), "nested");
+  EXPECT_NE(d.message.find("different pieces"), std::string::npos) << d.message;
+}
+
+TEST(BackgroundOverlap, UnusualButValidBackgroundsAreMeshedAsTheGrid) {
+  const MeshResult plain = mesh_on(grid(), "plain", 2);
+  ASSERT_TRUE(plain.report.ok()) << plain.report.summary();
+  const std::string expected = fingerprint(plain);
+  // Every tet negative (the other convention), and every third one only (a valid mesh listed
+  // with inconsistent vertex orders): turned on read, the same mesh.
+  for (const int every : {1, 3}) {
+    TetMesh turned = grid();
+    for (std::size_t t = 0; t < turned.tets.size(); t += static_cast<std::size_t>(every))
+      std::swap(turned.tets[t][2], turned.tets[t][3]);
+    const MeshResult r = mesh_on(turned, "turned", 2);
+    ASSERT_TRUE(r.report.ok()) << r.report.summary();
+    EXPECT_EQ(fingerprint(r), expected) << "every " << every;
+  }
+  // A second grid touching a first along its x = 2 face, with vertices of its own (coincident,
+  // not shared: lattice points, exact), and a third far away: pieces that do not overlap. The
+  // input is in the first, which alone gives the same tets.
+  const TetMesh lattice = aligned_grid(-2, 0.5, 8);
+  const MeshResult alone = mesh_on(lattice, "lattice", 2);
+  ASSERT_TRUE(alone.report.ok()) << alone.report.summary();
+  double lo = lattice.vertices[0][0], hi = lo;
+  for (const Point3& v : lattice.vertices) {
+    lo = std::min(lo, v[0]);
+    hi = std::max(hi, v[0]);
+  }
+  const TetMesh touching =
+      concatenate(concatenate(lattice, translated(lattice, {hi - lo, 0, 0})), translated(lattice, {0, 0, 3 * (hi - lo)}));
+  const MeshResult r = mesh_on(touching, "touching", 2);
+  ASSERT_TRUE(r.report.ok()) << r.report.summary();
+  EXPECT_EQ(r.mesh.tets.size(), alone.mesh.tets.size());
+}
+
+TEST(BackgroundOverlap, PiecesSeparatedOnlyByAPlaneThroughTwoEdgesAreTold) {
+  // Two single-tet pieces far from the input: A's top edge (along x) and B's bottom edge (along
+  // y) cross at one point; only the plane through both edges (z = 10) separates them, no face
+  // plane does. Touching there: accepted. B lowered by 1/4: the edges pass through each other's
+  // tet, the interiors overlap: refused.
+  for (const double drop : {0.0, 0.25}) {
+    TetMesh m = grid();
+    const int n = static_cast<int>(m.vertices.size());
+    const double z = 10, b = z - drop;
+    m.vertices.insert(m.vertices.end(), {{-1, 0, z}, {1, 0, z}, {0, 1, z - 1}, {0, -1, z - 1},
+                                         {0, -1, b}, {0, 1, b}, {1, 0, b + 1}, {-1, 0, b + 1}});
+    for (const int first : {n, n + 4}) {
+      Tet t{first, first + 1, first + 2, first + 3};
+      m.tets.push_back(t);
+      m.reference.push_back(0);
+    }
+    if (drop == 0.0) {
+      const MeshResult r = mesh_on(m, "edges_touch", 2);
+      EXPECT_TRUE(r.report.ok()) << r.report.summary();
+    } else {
+      const Defect d = refused(m, "edges_cross");
+      EXPECT_NE(d.message.find("tets " + std::to_string(grid().tets.size()) + " and " +
+                               std::to_string(grid().tets.size() + 1) + ", in different pieces"),
+                std::string::npos)
+          << d.message;
+    }
   }
 }
 
