@@ -835,13 +835,14 @@ std::string grid_with_islands(const std::vector<Point>& extra,
 
 TEST(Mesh2, DisconnectedBackgroundPartsAreLocatedExactly) {
   // An annulus (outer square counter-clockwise, inner one clockwise) on the grid, plus two
-  // triangles not connected to the grid: one in the hole, one far outside. Their regions come
-  // from exact ray shooting; both have winding number 0 and get no copy.
+  // triangles not connected to the grid: one just off its corner, one far outside. Their regions
+  // come from exact ray shooting; both have winding number 0 and get no copy. (A triangle over
+  // the grid, even in the annulus' hole, would cover space twice: refused below.)
   CurveSet curves = one({{-1.5, -1.5}, {5.5, -1.5}, {5.5, 5.5}, {-1.5, 5.5}});
   curves.curves.push_back({{{1.5, 1.5}, {1.5, 2.5}, {2.5, 2.5}, {2.5, 1.5}}});
   const Prepared p = prepare(curves);
   ASSERT_EQ(p.search.immersions.size(), 1u);
-  const std::vector<Point> extra = {{1.9, 1.9}, {2.1, 1.9}, {2, 2.1}, {20, 20},
+  const std::vector<Point> extra = {{-2.9, -2.9}, {-2.1, -2.9}, {-2.5, -2.1}, {20, 20},
                                     {21, 20},   {20, 21},   {0.2, 0.2}, {0.4, 0.2}, {0.3, 0.4}};
   const std::string path = temp_path("imm_mesh_islands");
   write_file(path, grid_with_islands(extra, {{82, 83, 84}, {85, 86, 87}}));
@@ -855,16 +856,86 @@ TEST(Mesh2, DisconnectedBackgroundPartsAreLocatedExactly) {
   expect_coverage(p, p.search.immersions[0], r);
   expect_embedding(p, r);
   expect_unglued(p, p.search.immersions[0], r);
-  // A third, lying over the grid inside the annulus: located in the cell, so its boundary edges
-  // pass through the cell and the background does not cover it there.
+  // A third, lying over the grid inside the annulus: that space would be meshed twice, so the
+  // background is refused, naming the island (triangle 130) and the grid triangle under it.
   write_file(path, grid_with_islands(extra, {{82, 83, 84}, {85, 86, 87}, {88, 89, 90}}));
   const MeshResult bad = mesh_immersion(*p.built.complex, p.search.immersions[0], options);
   std::remove(path.c_str());
   ASSERT_FALSE(bad.report.ok());
-  EXPECT_EQ(bad.report.defects[0].kind, DefectKind::NotCovered);
-  ASSERT_EQ(bad.report.defects[0].points.size(), 1u);
-  const auto& where = bad.report.defects[0].points[0];
-  EXPECT_TRUE(where[0] >= 0.2 && where[0] <= 0.4 && where[1] >= 0.2 && where[1] <= 0.4);
+  ASSERT_EQ(bad.report.defects.size(), 1u) << bad.report.summary();
+  const Defect& d = bad.report.defects[0];
+  EXPECT_EQ(d.kind, DefectKind::InconsistentOrientation);
+  EXPECT_NE(d.message.find("background triangles overlap"), std::string::npos) << d.message;
+  ASSERT_EQ(d.facets.size(), 2u);
+  EXPECT_LT(d.facets[0], 128);
+  EXPECT_EQ(d.facets[1], 130);
+  // The grid triangle named is one of the two of the unit square [0, 1]^2 under the island.
+  ASSERT_EQ(d.points.size(), 1u);
+  EXPECT_TRUE(d.points[0][0] >= 0 && d.points[0][0] <= 1 && d.points[0][1] >= 0 && d.points[0][1] <= 1);
+}
+
+/// The grid background's text with every vertex moved by (dx, dy) and its vertex numbers after
+/// `offset` others; its vertex and triangle lines only.
+std::pair<std::string, std::string> grid_lines(double dx, double dy, int offset) {
+  std::ostringstream vertices, triangles;
+  const int n = 9;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) vertices << i - 2 + dx << ' ' << j - 2 + dy << " 0\n";
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const int a = offset + j * n + i + 1, b = a + 1, c = a + n, d = c + 1;
+      triangles << a << ' ' << b << ' ' << c << " 0\n" << b << ' ' << d << ' ' << c << " 0\n";
+    }
+  return {vertices.str(), triangles.str()};
+}
+
+/// Grids moved by each of `shifts` in one background file.
+std::string grids(const std::vector<Point>& shifts) {
+  std::string v, t;
+  for (std::size_t k = 0; k < shifts.size(); ++k) {
+    const auto [vertices, triangles] = grid_lines(shifts[k].x, shifts[k].y, static_cast<int>(81 * k));
+    v += vertices;
+    t += triangles;
+  }
+  return "MeshVersionFormatted 1\nDimension 2\nVertices\n" + std::to_string(81 * shifts.size()) + "\n" + v +
+         "Triangles\n" + std::to_string(128 * shifts.size()) + "\n" + t + "End\n";
+}
+
+// A background covering space twice would mesh it twice: pieces (triangles joined across edges)
+// that overlap are refused, naming a triangle of each; pieces that only touch are meshed.
+TEST(Mesh2, OverlappingBackgroundPiecesAreRefused) {
+  const Prepared p = prepare(square());
+  const std::string path = temp_path("imm_mesh_pieces");
+  MeshOptions options;
+  options.background_path = path;
+  write_file(path, grids({{0, 0}}));
+  const MeshResult plain = mesh_immersion(*p.built.complex, p.search.immersions[0], options);
+  ASSERT_TRUE(plain.report.ok()) << plain.report.summary();
+  // Crossing boundaries (a grid and the same grid moved by (0.25, 0.375)), and a grid wholly
+  // inside another's triangles (a small one: no boundary crosses).
+  const std::string small = "MeshVersionFormatted 1\nDimension 2\nVertices\n84\n" + grid_lines(0, 0, 0).first +
+                            "3.1 3.1 0\n3.6 3.2 0\n3.3 3.7 0\nTriangles\n129\n" + grid_lines(0, 0, 0).second +
+                            "82 83 84 0\nEnd\n";
+  for (const std::string& text : {grids({{0, 0}, {0.25, 0.375}}), small}) {
+    write_file(path, text);
+    const MeshResult r = mesh_immersion(*p.built.complex, p.search.immersions[0], options);
+    ASSERT_FALSE(r.report.ok());
+    ASSERT_EQ(r.report.defects.size(), 1u) << r.report.summary();
+    const Defect& d = r.report.defects[0];
+    EXPECT_NE(d.message.find("background triangles overlap"), std::string::npos) << d.message;
+    EXPECT_NE(d.message.find("different pieces"), std::string::npos) << d.message;
+    ASSERT_EQ(d.facets.size(), 2u);
+    EXPECT_LT(d.facets[0], 128);
+    EXPECT_GE(d.facets[1], 128);
+  }
+  // Touching along x = 6 (coincident vertices of their own) and at the corner (6, 6): meshed as
+  // the grid alone.
+  write_file(path, grids({{0, 0}, {8, 0}, {8, 8}}));
+  const MeshResult touching = mesh_immersion(*p.built.complex, p.search.immersions[0], options);
+  std::remove(path.c_str());
+  ASSERT_TRUE(touching.report.ok()) << touching.report.summary();
+  EXPECT_EQ(touching.mesh.triangles, plain.mesh.triangles);
+  EXPECT_EQ(touching.mesh.vertices, plain.mesh.vertices);
 }
 
 TEST(Mesh2, OutputFormats) {
