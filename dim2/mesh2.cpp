@@ -126,9 +126,13 @@ MeshResult mesh_immersion(const Complex2& complex, const Immersion& immersion,
   {
     double worst = 0.0;
     double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
+    // The .emb is in file order; complex.curves holds a clockwise input reversed (vertex 0 kept,
+    // the rest in reverse), so file vertex i of a curve of m is its entry (m - i) % m.
     std::size_t v = 0;
     for (const Curve& curve : complex.curves.curves) {
-      for (const Point& p : curve.vertices) {
+      const std::size_t m = curve.vertices.size();
+      for (std::size_t i = 0; i < m; ++i) {
+        const Point& p = curve.vertices[complex.reversed ? (m - i) % m : i];
         lo[0] = std::min(lo[0], p.x), lo[1] = std::min(lo[1], p.y);
         hi[0] = std::max(hi[0], p.x), hi[1] = std::max(hi[1], p.y);
         if (v < result.embedding.size() && result.embedding[v].element >= 0) {

@@ -526,6 +526,25 @@ TEST(Mesh2, ClockwiseInputIsMeshedInItsOwnVertexOrder) {
   check_all(p, 12, 1);
 }
 
+// The measured embedding error (the JSON's "embedding_error", the CLI's warning) compares the
+// .emb, in file order, with the file's vertices, not with the reversed curves of the complex: a
+// clockwise square is reproduced exactly (its .emb lands on its own corners), on a background and
+// on a conforming mesh.
+TEST(Mesh2, ClockwiseInputHasNoEmbeddingError) {
+  const CurveSet cw = touching({{{0, 0}, {0, 1}, {1, 1}, {1, 0}}});
+  const Prepared p = prepare(cw);
+  ASSERT_TRUE(p.built.report.ok()) << p.built.report.summary();
+  ASSERT_TRUE(p.built.complex->reversed);
+  ASSERT_EQ(p.search.immersions.size(), 1u);
+  for (const bool conforming : {false, true}) {
+    SCOPED_TRACE(conforming ? "conforming" : "background");
+    const MeshResult r = mesh(p, p.search.immersions.front(), 8, conforming);
+    ASSERT_TRUE(r.report.ok()) << r.report.summary();
+    expect_embedding(p, r);
+    EXPECT_LE(r.stats.embedding_error, 1e-12);
+  }
+}
+
 /// Exact area of a triangle clipped to a box, > 0?
 bool overlaps_box(const std::array<Point, 3>& t, double x0, double y0, double x1, double y1) {
   std::vector<Q> poly = {exact(t[0]), exact(t[1]), exact(t[2])};
