@@ -17,7 +17,10 @@
 // pseudo-random part is a pure function of (seed, a key of the vertex's geometry): the key is
 // computed from the exact coordinates of the vertex and of its neighbours (the callers in dim2/
 // and dim3/), so re-indexing the input does not change the perturbed geometry, and two
-// coincident vertices of different parts get different offsets.
+// coincident vertices of different parts get different offsets. Exactly identical parts (the same
+// curve or surface twice) give equal keys to their corresponding vertices: distinguish_equal_keys
+// numbers the vertices sharing a key in file order, so the copies move apart (a deterministic,
+// thread-independent choice; only such repeated keys depend on the vertex order).
 //
 // CGAL-free, header-only: shared by dim2/ (curves) and dim3/ (surfaces); no branch on the
 // dimension.
@@ -77,6 +80,21 @@ std::uint64_t point_key(const std::array<double, D>& p) {
     h = mix64(h ^ bits);
   }
   return h;
+}
+
+/// Makes repeated keys distinct: of the vertices sharing a key, the k-th in index order (k >= 1)
+/// gets the key mixed with k; the first keeps it, so inputs without repeated keys are unchanged.
+inline void distinguish_equal_keys(std::vector<std::uint64_t>& keys) {
+  std::vector<std::size_t> order(keys.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return keys[a] < keys[b] || (keys[a] == keys[b] && a < b);
+  });
+  const std::vector<std::uint64_t> original = keys;
+  for (std::size_t k = 1, rank = 0; k < order.size(); ++k) {
+    rank = original[order[k]] == original[order[k - 1]] ? rank + 1 : 0;
+    if (rank > 0) keys[order[k]] = mix64(original[order[k]] ^ mix64(0xC0FFEE00ull + rank));
+  }
 }
 
 /// A reproducible value in [-1, 1], a multiple of 2^-20, from (seed, key, axis).

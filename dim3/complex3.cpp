@@ -714,7 +714,7 @@ void add_counts(std::vector<std::pair<DefectKind, std::size_t>>& into, const Val
 /// The contact-resolving perturbation of a surface (core/perturbation.h): inward is against the
 /// area-weighted normal of each vertex star (outward for a counter-clockwise-from-outside input;
 /// reversed when the whole input is inside-out), keys mix each vertex's coordinates with its
-/// neighbours' (independent of the vertex order).
+/// neighbours' (independent of the vertex order, but for identical copies).
 PerturbationSummary perturb_surface(Surface& s, const PerturbationAttempt& attempt) {
   const std::size_t n = s.vertex_count();
   std::vector<std::array<double, 3>> inward(n, {0, 0, 0});
@@ -730,8 +730,9 @@ PerturbationSummary perturb_surface(Surface& s, const PerturbationAttempt& attem
     }
   }
   const double sign = signed_volume(s) < 0.0 ? -1.0 : 1.0;
+  for (std::size_t v = 0; v < n; ++v) keys[v] = mix64(own[v] ^ mix64(link[v]));
+  distinguish_equal_keys(keys);  // identical copies of a part move apart
   for (std::size_t v = 0; v < n; ++v) {
-    keys[v] = mix64(own[v] ^ mix64(link[v]));
     const double len = std::sqrt(inward[v][0] * inward[v][0] + inward[v][1] * inward[v][1] + inward[v][2] * inward[v][2]);
     for (int d = 0; d < 3; ++d) inward[v][d] = len > 0.0 && std::isfinite(len) ? sign * inward[v][d] / len : 0.0;
   }
@@ -815,10 +816,13 @@ BuildResult build_once(const Surface& surface, const BuildOptions& options) {
       if (!folds.ok()) {
         result.folds = std::move(folds);
       } else {
-        result.report = std::move(last);
+        // The input's own contacts, in the user's coordinates (the perturbed ones would quote
+        // coordinates that are in no file); the last attempt's defects are counted only.
+        result.report = contacts.found;
         result.report.add(Defect{DefectKind::Touching, "intersect",
-                                 "the input's exact contacts were not resolved by " +
-                                     std::to_string(contacts.attempts) + " perturbations (above: the last one's)",
+                                 "the input's exact contacts (above) were not resolved by " +
+                                     std::to_string(contacts.attempts) + " perturbations (the last one still had " +
+                                     std::to_string(last.total()) + " defects)",
                                  {}, {}, {}});
       }
       result.contacts = std::move(contacts);

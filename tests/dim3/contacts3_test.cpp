@@ -260,6 +260,28 @@ TEST(Contacts3, SeededRandomBoxesOnAGrid) {
   }
 }
 
+// The same solid twice (a tetrahedron, a box; two or three copies): corresponding vertices have
+// equal geometric keys, so they got equal offsets and no perturbation separated them (exit 2).
+// Now the copies move apart: overlapping parts (winding = number of copies), and the only
+// immersion keeps them apart (one component per copy, every copy unglued).
+TEST(Contacts3, IdenticalCopiesAreSeparated) {
+  const Surface t = tetrahedron({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+  const Surface b = box({0, 0, 0}, {10, 10, 10});
+  const std::vector<std::pair<Surface, int>> cases = {{merge(t, t), 2}, {merge(b, b), 2}, {merge(merge(t, t), t), 3}};
+  for (const auto& [s, copies] : cases) {
+    SCOPED_TRACE(copies);
+    const Counts c = build_and_check(s);
+    EXPECT_EQ(c.max_winding, copies);
+    const BuildResult r = build_complex(s);
+    ASSERT_TRUE(r.complex);
+    SearchOptions so;
+    so.max_immersions = 0;
+    const SearchResult sr = find_immersions(r.complex->complex, so);
+    ASSERT_EQ(sr.immersions.size(), 1u);
+    EXPECT_EQ(sr.immersions.front().components().size(), static_cast<std::size_t>(copies));
+  }
+}
+
 // ---- local folds: no perturbation removes them (exit 3 verdicts) ----------------------------
 
 /// A coarse sphere (a bipyramid over a zig-zag hexagon) whose top vertex `v` is pulled across
