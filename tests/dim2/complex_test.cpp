@@ -11,6 +11,7 @@
 #include <map>
 #include <random>
 
+#include "core/graph_search.h"
 #include "dim2/complex2.h"
 #include "support/random_curves.h"
 
@@ -731,6 +732,75 @@ TEST(Complex2Contacts, GenericInputIsNeverPerturbed) {
   ASSERT_TRUE(r.complex);
   EXPECT_FALSE(r.contacts.has_value());
   EXPECT_EQ(r.complex->curves.curves[0].vertices, set.curves[0].vertices);
+}
+
+// One curve touching itself at a vertex (a pinch): the two occurrences of the point are reflex
+// turns, each inside the other's left. Moving both into their own left swaps them (two new
+// crossings and a region of winding -1, a false inversion); each must move into its right, so
+// the perturbed curve is simple (checked by the brute-force scan): one immersed disk, no arc.
+// Clockwise (reversed), rotated and re-indexed copies alike; and the lobes of two curves
+// touching at that point still come apart by a gap.
+TEST(Complex2Contacts, PinchedCurveIsPerturbedWithoutNewCrossings) {
+  const std::vector<std::pair<const char*, CurveSet>> cases = {
+      {"pinch", make_set({{{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {1, 2}, {1, 1}, {0, 1}}})},
+      {"touchself", make_set({{{0, 0}, {2, 0}, {1, 1}, {2, 2}, {0, 2}, {1, 1}}})},
+      {"pinch_three_lobes",
+       make_set({{{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {1, 2}, {1, 1}, {0, 2}, {-1, 2}, {-1, 1.5}, {1, 1}, {0, 1}}})},
+  };
+  for (const auto& [name, pinch] : cases) {
+    CurveSet cw = pinch;
+    for (Curve& c : cw.curves) std::reverse(c.vertices.begin(), c.vertices.end());
+    for (const CurveSet& set : {pinch, cw, rotated_set(pinch), reindexed_set(pinch)}) {
+      SCOPED_TRACE(name);
+      EXPECT_FALSE(build_complex_strict(set).report.ok());
+      const Outcome o = build_resolved(set);
+      ASSERT_EQ(o.kind, Outcome::Built);
+      const test_support::CrossingFacts moved = test_support::crossing_facts(o.result.contacts->resolved);
+      EXPECT_EQ(moved.proper_crossings, 0u);
+      const CellComplex<2>& c = o.result.complex->complex;
+      EXPECT_EQ(c.arc_count(), 0u);
+      EXPECT_EQ(c.max_winding_number(), 1);
+      SearchOptions options;
+      options.max_immersions = 0;
+      EXPECT_EQ(find_immersions(c, options).immersions.size(), 1u);
+    }
+  }
+}
+
+// The same curve twice: equal geometric keys gave both copies the same offsets, so no
+// perturbation separated them (exit 2). Now the copies move apart and cross generically: two
+// overlapping parts (winding 2 where they overlap), immersible.
+TEST(Complex2Contacts, IdenticalCurvesAreSeparated) {
+  for (const CurveSet& set : {make_set({square(0, 0, 10).vertices, square(0, 0, 10).vertices}),
+                              make_set({{{0, 0}, {4, 0}, {2, 3}}, {{0, 0}, {4, 0}, {2, 3}}, {{0, 0}, {4, 0}, {2, 3}}})}) {
+    const Outcome o = build_resolved(set);
+    ASSERT_EQ(o.kind, Outcome::Built);
+    const CellComplex<2>& c = o.result.complex->complex;
+    EXPECT_EQ(c.max_winding_number(), static_cast<int>(set.curves.size()));
+    SearchOptions options;
+    options.max_immersions = 0;
+    EXPECT_EQ(find_immersions(c, options).status, ImmersionStatus::Immersible);
+  }
+}
+
+// Contacts no attempt resolves are reported with the input's own defects, in the user's
+// coordinates, then one line saying they were not resolved; the last attempt's defects would
+// quote coordinates that are in no file. Two squares sharing a vertical side at x = 2^60: every
+// x offset rounds away (the side stays shared), the y offsets do not.
+TEST(Complex2Contacts, UnresolvedContactsQuoteTheInput) {
+  const double o = std::ldexp(1.0, 60), size = 1024;
+  const CurveSet set = make_set({square(o, 0, size).vertices, square(o + size, 0, size).vertices});
+  const BuildResult r = build_complex(set);
+  ASSERT_FALSE(r.report.ok());
+  ASSERT_TRUE(r.contacts && !r.contacts->perturbation);
+  const std::vector<Defect>& found = r.contacts->found.defects;
+  ASSERT_EQ(r.report.defects.size(), found.size() + 1);
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    EXPECT_EQ(r.report.defects[k].message, found[k].message);
+    EXPECT_EQ(r.report.defects[k].points, found[k].points);
+  }
+  EXPECT_NE(r.report.defects.back().message.find("exact contacts (above) were not resolved"), std::string::npos)
+      << r.report.defects.back().message;
 }
 
 // Seeded random polygons on a coarse grid: every degenerate one gets a verdict (a complex or an

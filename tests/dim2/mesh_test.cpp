@@ -18,6 +18,7 @@
 #include <random>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "core/graph_search.h"
 #include "core/rational.h"
@@ -499,6 +500,33 @@ TEST(Mesh2Contacts, TouchingCurvesMeshApart) {
     expect_embedding(p, r);
     expect_unglued(p, immersion, r);
     EXPECT_EQ(edge_components(r.mesh), 2u);
+  }
+}
+
+// A curve pinched at a vertex meshes as one immersed disk (the perturbation opens the pinch into
+// a thin neck without crossing the curve); the same square twice meshes as two unglued copies
+// (two mesh components, every triangle where they overlap present twice).
+TEST(Mesh2Contacts, PinchAndIdenticalCopiesMesh) {
+  const std::vector<Point> a{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const std::vector<std::tuple<const char*, CurveSet, std::size_t>> cases = {
+      {"pinch", touching({{{0, 0}, {1, 0}, {1, 1}, {2, 1}, {2, 2}, {1, 2}, {1, 1}, {0, 1}}}), 1},
+      {"twin", touching({a, a}), 2},
+  };
+  for (const auto& [name, curves, parts] : cases) {
+    SCOPED_TRACE(name);
+    const Prepared p = prepare(curves);
+    ASSERT_TRUE(p.built.contacts && p.built.contacts->perturbation) << p.built.report.summary();
+    ASSERT_FALSE(p.built.inversion.has_value()) << p.built.inversion->message;
+    ASSERT_EQ(p.search.immersions.size(), 1u);
+    const Immersion& immersion = p.search.immersions.front();
+    EXPECT_EQ(immersion.components().size(), parts);
+    const MeshResult r = mesh(p, immersion, 8, false);
+    ASSERT_TRUE(r.report.ok()) << r.report.summary();
+    expect_counter_clockwise(r.mesh);
+    expect_coverage(p, immersion, r);
+    expect_embedding(p, r);
+    expect_unglued(p, immersion, r);
+    EXPECT_EQ(edge_components(r.mesh), parts);
   }
 }
 
