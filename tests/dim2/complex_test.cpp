@@ -767,6 +767,26 @@ TEST(Complex2Contacts, PinchedCurveIsPerturbedWithoutNewCrossings) {
   }
 }
 
+// Coincident corners nested one in the other (both left turns, a narrow one inside a wider one):
+// the inner one moves deeper along its own bisector, the outer one out of it. Directions from
+// length-weighted normals lean outside a sharp corner and made the pair cross twice more than
+// the input's one proper crossing (a sliver); checked by the brute-force scan of the perturbed
+// curve against the input's own crossings.
+TEST(Complex2Contacts, NestedCoincidentCornersAddNoCrossing) {
+  const std::vector<CurveSet> cases = {
+      make_set({{{3, 0}, {4, 4}, {0, 2}, {0, 0}, {2, 0}, {4, 4}, {3, 3}}}),
+      make_set({{{0, 0}, {2, 4}, {3, 0}, {2, 1}, {4, 4}, {3, 2}, {2, 1}, {4, 1}}}),
+  };
+  for (const CurveSet& set : cases) {
+    const std::size_t own = test_support::crossing_facts(set).proper_crossings;
+    for (const CurveSet& variant : {set, rotated_set(set), reindexed_set(set)}) {
+      const BuildResult r = build_complex(variant);
+      ASSERT_TRUE(r.contacts && r.contacts->perturbation) << r.report.summary();
+      EXPECT_EQ(test_support::crossing_facts(r.contacts->resolved).proper_crossings, own);
+    }
+  }
+}
+
 // The same curve twice: equal geometric keys gave both copies the same offsets, so no
 // perturbation separated them (exit 2). Now the copies move apart and cross generically: two
 // overlapping parts (winding 2 where they overlap), immersible.
