@@ -36,17 +36,9 @@ class CliContract : public imm::test::ImmerseTest {
   /// without end must fail this test, not the machine.
   /// `before`: shell commands run first (a writer started in the background).
   [[nodiscard]] Outcome run_bounded(const std::string& args, const std::string& before = "") const {
-    const std::string command = "cd '" + dir_.string() + "' && ulimit -v 2000000 && " + before +
-                                "exec timeout -s KILL 60 '" + IMM_IMMERSE_EXE + "' " + args + " 2>&1";
-    Outcome r;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (pipe == nullptr) return r;
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-    const int status = ::pclose(pipe);
-    if (WIFEXITED(status)) r.code = WEXITSTATUS(status);
-    if (r.code > 128) r.signal = r.code - 128;  // timeout's 137: killed
+    // timeout's SIGKILL shows as 137, a signal (run_shell).
+    const Outcome r = imm::test::run_shell("cd '" + dir_.string() + "' && ulimit -v 2000000 && " + before +
+                                           "exec timeout -s KILL 60 '" + IMM_IMMERSE_EXE + "' " + args + " 2>&1");
     EXPECT_EQ(r.signal, 0) << "immerse " << args << " was killed (no bound on the read?)\n" << r.output.substr(0, 2000);
     return r;
   }

@@ -113,17 +113,33 @@ TEST(ParallelFor, LoopsFromTwoOutsideThreadsBothFinish) {
     for (int v : r.visits) EXPECT_EQ(v, 1);
 }
 
+/// Another thread's loop holding the pool (both of its workers busy) until release().
+class PoolHolder {
+ public:
+  PoolHolder()
+      : thread_([this] {
+          parallel_for(2, 2, [this](std::size_t, unsigned) {
+            holding_ = true;
+            while (!release_) std::this_thread::yield();
+          }, 1);
+        }) {
+    while (!holding_) std::this_thread::yield();
+  }
+  ~PoolHolder() { release(); }
+  void release() {
+    release_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  std::atomic<bool> holding_{false}, release_{false};
+  std::thread thread_;
+};
+
 // While another thread's loop holds the pool, a loop runs on threads of its own: the caller is
 // still worker 0, and a loop nested in its bodies still runs inline (it went to yet more threads).
 TEST(ParallelFor, ALoopThatFindsThePoolBusyKeepsTheCallerAsWorkerZeroAndNestsInline) {
-  std::atomic<bool> holding{false}, release{false};
-  std::thread holder([&] {
-    parallel_for(2, 2, [&](std::size_t, unsigned) {
-      holding = true;
-      while (!release) std::this_thread::yield();
-    }, 1);
-  });
-  while (!holding) std::this_thread::yield();
+  PoolHolder holder;
   std::mutex mutex;
   std::set<std::thread::id> worker0;
   std::vector<int> inline_nested(8, 0);
@@ -138,8 +154,7 @@ TEST(ParallelFor, ALoopThatFindsThePoolBusyKeepsTheCallerAsWorkerZeroAndNestsInl
     inline_nested[i] = same;
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }, 1);
-  release = true;
-  holder.join();
+  holder.release();
   EXPECT_EQ(worker0, std::set<std::thread::id>{std::this_thread::get_id()});
   for (int ok : inline_nested) EXPECT_EQ(ok, 1);
 }
@@ -215,19 +230,11 @@ bool every_item_once(unsigned threads, std::size_t count) {
 // destroyed it joinable: std::terminate).
 [[noreturn]] void refused_thread_beside_a_busy_pool() {
   ::alarm(20);
-  std::atomic<bool> holding{false}, release{false};
-  std::thread holder([&] {
-    parallel_for(2, 2, [&](std::size_t, unsigned) {
-      holding = true;
-      while (!release) std::this_thread::yield();
-    }, 1);
-  });
-  while (!holding) std::this_thread::yield();
+  PoolHolder holder;
   const rlimit old = refuse_new_threads();
   const bool ok = every_item_once(4, 1000);
   ::setrlimit(RLIMIT_AS, &old);
-  release = true;
-  holder.join();
+  holder.release();
   ::_exit(ok ? 0 : 4);
 }
 

@@ -478,6 +478,24 @@ CurveSet touching(std::vector<std::vector<Point>> curves) {
   return s;
 }
 
+/// The input has exact contacts, which the perturbation resolves into one immersion of `parts`
+/// components; its mesh passes the checks against the user's curves and has `parts` components.
+void expect_contact_meshes_in_parts(const CurveSet& curves, std::size_t parts) {
+  const Prepared p = prepare(curves);
+  ASSERT_TRUE(p.built.contacts && p.built.contacts->perturbation) << "not a contact: " << p.built.report.summary();
+  ASSERT_FALSE(p.built.inversion.has_value()) << p.built.inversion->message;
+  ASSERT_EQ(p.search.immersions.size(), 1u);
+  const Immersion& immersion = p.search.immersions.front();
+  EXPECT_EQ(immersion.components().size(), parts);
+  const MeshResult r = mesh(p, immersion, 8, false);
+  ASSERT_TRUE(r.report.ok()) << r.report.summary();
+  expect_counter_clockwise(r.mesh);
+  expect_coverage(p, immersion, r);
+  expect_embedding(p, r);
+  expect_unglued(p, immersion, r);
+  EXPECT_EQ(edge_components(r.mesh), parts);
+}
+
 TEST(Mesh2Contacts, TouchingCurvesMeshApart) {
   const std::vector<Point> a{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   const std::vector<std::pair<const char*, CurveSet>> cases = {
@@ -488,18 +506,7 @@ TEST(Mesh2Contacts, TouchingCurvesMeshApart) {
   };
   for (const auto& [name, curves] : cases) {
     SCOPED_TRACE(name);
-    const Prepared p = prepare(curves);
-    ASSERT_TRUE(p.built.contacts && p.built.contacts->perturbation) << "not a contact";
-    ASSERT_EQ(p.search.immersions.size(), 1u);
-    const Immersion& immersion = p.search.immersions.front();
-    EXPECT_EQ(immersion.components().size(), 2u);
-    const MeshResult r = mesh(p, immersion, 8, false);
-    ASSERT_TRUE(r.report.ok()) << r.report.summary();
-    expect_counter_clockwise(r.mesh);
-    expect_coverage(p, immersion, r);
-    expect_embedding(p, r);
-    expect_unglued(p, immersion, r);
-    EXPECT_EQ(edge_components(r.mesh), 2u);
+    expect_contact_meshes_in_parts(curves, 2);
   }
 }
 
@@ -514,19 +521,7 @@ TEST(Mesh2Contacts, PinchAndIdenticalCopiesMesh) {
   };
   for (const auto& [name, curves, parts] : cases) {
     SCOPED_TRACE(name);
-    const Prepared p = prepare(curves);
-    ASSERT_TRUE(p.built.contacts && p.built.contacts->perturbation) << p.built.report.summary();
-    ASSERT_FALSE(p.built.inversion.has_value()) << p.built.inversion->message;
-    ASSERT_EQ(p.search.immersions.size(), 1u);
-    const Immersion& immersion = p.search.immersions.front();
-    EXPECT_EQ(immersion.components().size(), parts);
-    const MeshResult r = mesh(p, immersion, 8, false);
-    ASSERT_TRUE(r.report.ok()) << r.report.summary();
-    expect_counter_clockwise(r.mesh);
-    expect_coverage(p, immersion, r);
-    expect_embedding(p, r);
-    expect_unglued(p, immersion, r);
-    EXPECT_EQ(edge_components(r.mesh), parts);
+    expect_contact_meshes_in_parts(curves, parts);
   }
 }
 

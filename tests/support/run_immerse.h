@@ -20,9 +20,8 @@ struct RunOutcome {
   std::string output;  ///< stdout and stderr together
 };
 
-/// `cd dir && immerse ARGS 2>&1`, with the binary IMM_IMMERSE_EXE.
-inline RunOutcome run_immerse(const std::filesystem::path& dir, const std::string& args) {
-  const std::string command = "cd '" + dir.string() + "' && exec '" IMM_IMMERSE_EXE "' " + args + " 2>&1";
+/// `sh -c COMMAND`, its stdout (add `2>&1` for stderr too) and how it ended.
+inline RunOutcome run_shell(const std::string& command) {
   RunOutcome r;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return r;
@@ -38,6 +37,11 @@ inline RunOutcome run_immerse(const std::filesystem::path& dir, const std::strin
     r.signal = WTERMSIG(status);
   }
   return r;
+}
+
+/// `cd dir && immerse ARGS 2>&1`, with the binary IMM_IMMERSE_EXE.
+inline RunOutcome run_immerse(const std::filesystem::path& dir, const std::string& args) {
+  return run_shell("cd '" + dir.string() + "' && exec '" IMM_IMMERSE_EXE "' " + args + " 2>&1");
 }
 
 inline void write_file(const std::filesystem::path& path, const std::string& text) {
