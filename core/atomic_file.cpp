@@ -247,7 +247,11 @@ std::string unreadable_file_kind(const std::string& path) {
 }
 
 void remove_temporaries_on_signals() {
-  for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) {
+  // Every signal whose default action ends the process without a core dump of interest: a
+  // command stages all its outputs until it ends (app/cli_common.h, Session), so a reader that
+  // closes its pipe (SIGPIPE), a file-size or CPU limit, or an alarm would leave them all.
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGXCPU, SIGXFSZ, SIGALRM, SIGVTALRM, SIGPROF,
+                            SIGUSR1, SIGUSR2}) {
     struct sigaction current {};
     if (::sigaction(signal_number, nullptr, &current) != 0) continue;
     if (current.sa_handler != SIG_DFL) continue;  // ignored or handled by the program: keep it

@@ -10,7 +10,8 @@
 // whatever was written before an error has already gone to its reader); a directory or a socket
 // is refused with an error.
 //
-// Signals: remove_temporaries_on_signals() makes SIGINT, SIGTERM, SIGHUP and SIGQUIT remove every
+// Signals: remove_temporaries_on_signals() makes SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE,
+// SIGXCPU, SIGXFSZ, SIGALRM, SIGVTALRM, SIGPROF, SIGUSR1 and SIGUSR2 remove every
 // temporary this process has open before the signal's default action ends the process. Programs
 // call it once at start-up; a library never installs handlers on its own.
 #pragma once
@@ -81,8 +82,8 @@ WriteStatus ensure_parent_directory(const std::string& file);
 /// reports why). Symbolic links are followed.
 std::string unreadable_file_kind(const std::string& path);
 
-/// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT (those whose disposition is still
-/// the default) that unlink the temporaries of writes in progress, then re-raise the signal with
+/// Installs handlers for SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGXCPU, SIGXFSZ, SIGALRM,
+/// SIGVTALRM, SIGPROF, SIGUSR1 and SIGUSR2 (those whose disposition is still the default) that unlink the temporaries of writes in progress, then re-raise the signal with
 /// its default action (so the exit status still says which signal ended the process).
 /// Idempotent. Async-signal-safe inside the handler (unlink, sigaction, raise only).
 void remove_temporaries_on_signals();

@@ -158,38 +158,43 @@ TEST_F(AtomicTarget, DirectoryIsRefused) {
   EXPECT_EQ(temporaries(), 0);
 }
 
-TEST_F(AtomicTarget, TemporaryIsRemovedOnSigterm) {
-  // A child process starts a write, reports that its temporary exists, and waits to be killed.
-  const fs::path out = dir_ / "big.json";
-  int ready[2];
-  ASSERT_EQ(::pipe(ready), 0);
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
+// Every fatal signal a command can meet while its outputs are staged: a reader closing the pipe
+// (SIGPIPE: `immerse deform ... | head` left hundreds of temporaries), limits, alarms.
+TEST_F(AtomicTarget, TemporaryIsRemovedOnFatalSignals) {
+  for (const int signal_number : {SIGTERM, SIGINT, SIGPIPE, SIGXFSZ, SIGXCPU, SIGALRM, SIGUSR1}) {
+    SCOPED_TRACE(signal_number);
+    // A child process starts a write, reports that its temporary exists, and waits to be killed.
+    const fs::path out = dir_ / "big.json";
+    int ready[2];
+    ASSERT_EQ(::pipe(ready), 0);
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      ::close(ready[0]);
+      remove_temporaries_on_signals();
+      write_file_atomic(out.string(), [&](std::ostream& o) {
+        o << std::string(1 << 20, 'x');
+        o.flush();
+        const char byte = 1;
+        if (::write(ready[1], &byte, 1) != 1) ::_exit(10);
+        for (;;) ::pause();
+        return true;
+      });
+      ::_exit(11);  // never reached: the signal ends the process
+    }
+    ::close(ready[1]);
+    char byte = 0;
+    ASSERT_EQ(::read(ready[0], &byte, 1), 1);
     ::close(ready[0]);
-    remove_temporaries_on_signals();
-    write_file_atomic(out.string(), [&](std::ostream& o) {
-      o << std::string(1 << 20, 'x');
-      o.flush();
-      const char byte = 1;
-      if (::write(ready[1], &byte, 1) != 1) ::_exit(10);
-      for (;;) ::pause();
-      return true;
-    });
-    ::_exit(11);  // never reached: the signal ends the process
+    EXPECT_EQ(temporaries(), 1);  // the write is in progress
+    ASSERT_EQ(::kill(child, signal_number), 0);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status)) << "status " << status;
+    if (WIFSIGNALED(status)) EXPECT_EQ(WTERMSIG(status), signal_number);
+    EXPECT_EQ(temporaries(), 0);
+    EXPECT_FALSE(fs::exists(out));
   }
-  ::close(ready[1]);
-  char byte = 0;
-  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
-  ::close(ready[0]);
-  EXPECT_EQ(temporaries(), 1);  // the write is in progress
-  ASSERT_EQ(::kill(child, SIGTERM), 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(child, &status, 0), child);
-  EXPECT_TRUE(WIFSIGNALED(status)) << "status " << status;
-  if (WIFSIGNALED(status)) EXPECT_EQ(WTERMSIG(status), SIGTERM);
-  EXPECT_EQ(temporaries(), 0);
-  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST_F(AtomicTarget, RegistryIsEmptyAfterWrites) {
