@@ -238,13 +238,16 @@ class Session {
         return fail();
       }
       std::string identity = output_identity(path);
-      for (const Output& o : outputs_) {
-        if (o.identity != identity || o.staged.temporary.empty()) continue;  // a stream takes both
-        err() << "immerse: '" << path << "' (" << what << ") is the file '" << o.staged.path << "' (" << o.what
+      const auto clash = [&](const std::string& earlier_path, const std::string& earlier_what) {
+        err() << "immerse: '" << path << "' (" << what << ") is the file '" << earlier_path << "' (" << earlier_what
               << ") already written by this command; not written\n";
         collision_ = true;
         return fail();
-      }
+      };
+      for (const Output& o : outputs_)
+        if (o.identity == identity && !o.staged.temporary.empty()) return clash(o.staged.path, o.what);  // a stream takes both
+      if (const auto it = committed_.find(identity); it != committed_.end())  // an earlier batch
+        return clash(it->second.first, it->second.second);
       // The temporaries wait for the end of the command in the signal handler's table
       // (core/atomic_file.cpp, 1024 slots): a command writing more files than that (deform
       // with hundreds of frames) commits them in batches.
@@ -284,6 +287,7 @@ class Session {
       return false;
     }
     for (std::size_t i = 0; i < outputs_.size(); ++i) {
+      const bool regular = !outputs_[i].staged.temporary.empty();  // not a stream written through
       if (const WriteStatus status = commit_write(outputs_[i].staged); !status.ok()) {
         err() << "immerse: " << status.error << '\n';
         failed_ = true;
@@ -291,8 +295,11 @@ class Session {
         discard_all();
         return false;
       }
+      if (regular && committed_.empty()) first_committed_ = outputs_[i].staged.path;
+      if (regular)  // its identity again: the file exists now (staged, it may have had none)
+        committed_.emplace(output_identity(outputs_[i].staged.path),
+                           std::make_pair(outputs_[i].staged.path, outputs_[i].what));
     }
-    committed_ += outputs_.size();
     outputs_.clear();
     return true;
   }
@@ -373,7 +380,9 @@ class Session {
     StagedWrite staged;
   };
   std::vector<Output> outputs_;  ///< staged, not yet committed
-  std::size_t committed_ = 0;
+  /// Outputs already renamed into place (earlier batches): identity -> (path, what).
+  std::map<std::string, std::pair<std::string, std::string>> committed_;
+  std::string first_committed_;
   bool failed_ = false;  ///< a write failed or was refused: nothing of this command lands
   bool collision_ = false;
   static constexpr std::size_t kMaxStaged = 960;
@@ -389,8 +398,14 @@ class Session {
       discard_write(o.staged);
       names += (names.empty() ? "'" : ", '") + o.staged.path + "'";
     }
-    if (!names.empty())
+    if (!names.empty()) {
       err() << "immerse: not written either, so that no output is left without the others: " << names << '\n';
+      // Outputs renamed before the failure (an earlier batch of a long deform run, or the first
+      // renames of the last batch) are in place: said, not hidden.
+      if (!committed_.empty())
+        err() << "immerse: " << committed_.size() << " earlier output" << (committed_.size() == 1 ? " was" : "s were")
+              << " already in place and stay (the first: '" << first_committed_ << "')\n";
+    }
     outputs_.clear();
     written_.clear();
   }

@@ -184,6 +184,24 @@ TEST_F(CliContract, AFailedWriteLeavesNoneOfTheOutputs) {
 
 // README: "a FIFO or a device (/dev/null, /dev/full) is written through"; `mesh -o /dev/null`
 // exited 64 on the extension check.
+// A long deform run commits its frames in batches (the signal handler's table of temporaries is
+// finite): a later output naming a file of an earlier batch is still a clash (it replaced frame 1
+// with the report, exit 0), and the message says which outputs are in place rather than claiming
+// that none are.
+TEST_F(CliContract, AClashWithAnEarlierBatchIsStillAClash) {
+  ASSERT_EQ(run("generate fig7 -o fig7.txt").code, 0);
+  write("h.json", R"({"handles": [
+  {"box": {"min": [-10000, -10000], "max": [-650, 10000]}, "displacement": [-800, 0]},
+  {"box": {"min": [680, -10000], "max": [10000, 10000]}, "displacement": [800, 0]}]})");
+  const Outcome r = run("deform fig7.txt --handles h.json -o out --frames 970 --resolution 6 --json out/mesh_001.vtu");
+  EXPECT_EQ(r.code, 64) << r.output.substr(r.output.size() > 3000 ? r.output.size() - 3000 : 0);
+  EXPECT_CONTAINS(r.output, "is the file 'out/mesh_001.vtu' (deformed mesh) already written by this command");
+  EXPECT_CONTAINS(r.output, "already in place and stay");
+  EXPECT_EQ(read("out/mesh_001.vtu").rfind("<?xml", 0), 0u) << "frame 1 was replaced";
+  for (const auto& entry : fs::directory_iterator(dir_ / "out"))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+}
+
 TEST_F(CliContract, DevicesAreWrittenThroughWhateverTheirName) {
   write_tetra("t.obj");
   write_square("s.txt");
