@@ -280,16 +280,20 @@ BuildResult build_complex(const CurveSet& input, const BuildOptions2& options) {
     ++contacts.attempts;
     std::vector<std::array<double, 2>> points = start_points;
     PerturbationSummary summary = perturb_points(points, inward, keys, attempt);
-    // Coincident corners: their directed parts must decide which side of each other they end on,
-    // so their pseudo-random parts are 1/16 of the usual (a narrow corner nested in another would
-    // otherwise be pushed across it by the random part alone).
+    // Coincident corners: their directed parts must decide which side of each other they end on.
+    // A corner with a side moves along its own bisector only, by a pseudo-random length in
+    // [31/64, 33/64] of the amplitude, so that it stays in its own wedge: a random part across
+    // the bisector, even 1/16 of the usual, pushed a corner nested in another one of under ~2
+    // degrees across it (two new crossings, exit 0). A corner with others on both sides (no side)
+    // keeps a small random part of both axes: it has no direction of its own.
     bool rescaled = false;
     for (std::size_t v = 0; v < points.size(); ++v) {
       if (side[v] == 0.0) continue;
       rescaled = true;
+      const double along = 0.5 + perturbation_unit(attempt.seed, keys[v], 0) / 64;
       for (unsigned d = 0; d < 2; ++d) {
         const double u = perturbation_unit(attempt.seed, keys[v], d);
-        points[v][d] = start_points[v][d] + summary.amplitude * (0.5 * inward[v][d] + u / 64);
+        points[v][d] = start_points[v][d] + summary.amplitude * (std::isnan(side[v]) ? u / 64 : along * inward[v][d]);
       }
     }
     if (rescaled) {

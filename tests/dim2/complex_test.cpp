@@ -776,6 +776,11 @@ TEST(Complex2Contacts, NestedCoincidentCornersAddNoCrossing) {
   const std::vector<CurveSet> cases = {
       make_set({{{3, 0}, {4, 4}, {0, 2}, {0, 0}, {2, 0}, {4, 4}, {3, 3}}}),
       make_set({{{0, 0}, {2, 4}, {3, 0}, {2, 1}, {4, 4}, {3, 2}, {2, 1}, {4, 1}}}),
+      // A narrow corner in another at one apex (a review's case): under ~2 degrees the random
+      // part across the bisectors decided which side each apex ended on.
+      make_set({{{0, 0}, {10, -0.01}, {10, 0.01}}, {{0, 0}, {5, -0.001}, {5, 0.001}}}),
+      make_set({{{0, 0}, {10, -0.001}, {10, 0.001}}, {{0, 0}, {5, -0.0001}, {5, 0.0001}}}),
+      make_set({{{0, 0}, {10, -0.1}, {10, 0.1}}, {{0, 0}, {5, -0.01}, {5, 0.01}}}),
   };
   for (const CurveSet& set : cases) {
     const std::size_t own = test_support::crossing_facts(set).proper_crossings;
