@@ -19,8 +19,10 @@
 // and dim3/), so re-indexing the input does not change the perturbed geometry, and two
 // coincident vertices of different parts get different offsets. Exactly identical parts (the same
 // curve or surface twice) give equal keys to their corresponding vertices: distinguish_equal_keys
-// numbers the vertices sharing a key in file order, so the copies move apart (a deterministic,
-// thread-independent choice; only such repeated keys depend on the vertex order).
+// numbers the vertices sharing a key in file order, so the copies get different offsets (a
+// deterministic, thread-independent choice; only such repeated keys depend on the vertex order).
+// The copies then cross each other generically: they overlap, as the input says, in many thin
+// cells (two copies of a 400-gon cross 200 times), rather than coming apart by a gap.
 //
 // CGAL-free, header-only: shared by dim2/ (curves) and dim3/ (surfaces); no branch on the
 // dimension.

@@ -266,7 +266,7 @@ BuildResult build_complex(const CurveSet& input, const BuildOptions2& options) {
                                        mix64(point_key(std::array<double, 2>{r.x, r.y})))));
     }
   }
-  distinguish_equal_keys(keys);  // identical copies of a curve move apart
+  distinguish_equal_keys(keys);  // identical copies of a curve get different offsets (they cross)
   const std::vector<double> side = coincident_sides(input);
   for (std::size_t v = 0; v < inward.size(); ++v) {
     auto& d = inward[v];

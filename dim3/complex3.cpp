@@ -731,7 +731,7 @@ PerturbationSummary perturb_surface(Surface& s, const PerturbationAttempt& attem
   }
   const double sign = signed_volume(s) < 0.0 ? -1.0 : 1.0;
   for (std::size_t v = 0; v < n; ++v) keys[v] = mix64(own[v] ^ mix64(link[v]));
-  distinguish_equal_keys(keys);  // identical copies of a part move apart
+  distinguish_equal_keys(keys);  // identical copies of a part get different offsets (they cross)
   for (std::size_t v = 0; v < n; ++v) {
     const double len = std::sqrt(inward[v][0] * inward[v][0] + inward[v][1] * inward[v][1] + inward[v][2] * inward[v][2]);
     for (int d = 0; d < 3; ++d) inward[v][d] = len > 0.0 && std::isfinite(len) ? sign * inward[v][d] / len : 0.0;
