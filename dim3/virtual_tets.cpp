@@ -476,7 +476,7 @@ class VirtualTets {
   /// approximations of the exact points (they contain the exact points): a conservative filter.
   /// The tets are binned in a hierarchy of uniform grids (CGAL's box_intersection_d, tried first,
   /// cost as much as the clipping): level 0's cells are about one tet across, each next level's
-  /// twice as wide, up to one cell wider than the whole background. A tet goes into the one cell
+  /// twice as wide, up to cells as wide as the whole background. A tet goes into the one cell
   /// holding its box's low corner, on the finest level whose cells are at least as wide as its
   /// box: one entry per tet, however graded the background (a wide tet copied into every fine cell
   /// it overlaps made 36 entries per tet on a strongly graded one, and could overflow 32-bit
