@@ -122,6 +122,23 @@ bool opposite_sides(const TetMesh& bg, std::uint32_t face, std::uint32_t other) 
   return false;  // not the same face: unreachable
 }
 
+/// The defect for background tets t and s lying on the same side of their shared face `key`
+/// (its vertices, sorted), found at `count` faces in all: the message both face pairings give.
+Defect folded_face_defect(const TetMesh& bg, std::uint32_t t, std::uint32_t s, const std::array<int, 3>& key,
+                          std::size_t count) {
+  Defect d;
+  d.kind = DefectKind::InconsistentOrientation;
+  d.stage = "background";
+  d.message = "background tets overlap: tets " + std::to_string(t) + " and " + std::to_string(s) +
+              " lie on the same side of their shared face (" + std::to_string(key[0]) + ", " +
+              std::to_string(key[1]) + ", " + std::to_string(key[2]) + ") near " +
+              format_point(bg.vertices[static_cast<std::size_t>(key[0])]) +
+              (count > 1 ? " (" + std::to_string(count) + " faces like this)" : "") +
+              ": the background mesh is folded (an inverted or dragged vertex) and would be meshed twice there";
+  d.vertices = {key[0], key[1], key[2]};
+  return d;
+}
+
 /// Whether the interiors of (positive) background tets t and u intersect: exact separating-axis
 /// test (two convex polytopes have disjoint interiors iff a plane parallel to a face of one, or
 /// to an edge of each, separates them weakly).
@@ -1263,11 +1280,10 @@ class VirtualTets {
     // with the smallest key, no sort of them all).
     // Two tets paired across two faces have the same four vertices (one tet twice): a defect,
     // since an adjacency's face is the three vertices its two tets share (LocalRegions::face).
-    // Overlaps across a face: the two tets of an interior face must lie on opposite sides of it.
-    // Tets are positive (TetMesh), so t's own vertex f is on the positive side of its face f in
-    // kFace order, and s's vertex opposite the face must be strictly on the negative side (exact:
-    // Epick's filtered predicate on the doubles). Once per face, from the smaller tet; each chunk
-    // keeps its face with the smallest key, so the one reported is the same for every thread count.
+    // Overlaps across a face: the two tets of an interior face must lie on opposite sides of it,
+    // i.e. list it in opposite vertex orders (opposite_sides: the tets are positive, so this is
+    // combinatorial). Once per face, from the smaller tet; each chunk keeps its face with the
+    // smallest key, so the one reported is the same for every thread count.
     using Folded = std::pair<std::array<int, 3>, std::uint32_t>;  // face key, face 4 t + f
     std::vector<std::pair<std::array<int, 3>, std::uint32_t>> shared_by_more;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> same_vertices;
@@ -1311,17 +1327,7 @@ class VirtualTets {
       }
     }
     if (folded && shared_by_more.empty() && same_vertices.empty()) {
-      const std::uint32_t t = folded->second / 4, s = neighbour[folded->second] / 4;
-      const std::array<int, 3>& key = folded->first;
-      const std::string face = "(" + std::to_string(key[0]) + ", " + std::to_string(key[1]) + ", " +
-                               std::to_string(key[2]) + ")";
-      background_defect(DefectKind::InconsistentOrientation,
-                        "background tets overlap: tets " + std::to_string(t) + " and " + std::to_string(s) +
-                            " lie on the same side of their shared face " + face + " near " +
-                            format_point(bg_.vertices[static_cast<std::size_t>(key[0])]) +
-                            (folded_count > 1 ? " (" + std::to_string(folded_count) + " faces like this)" : "") +
-                            ": the background mesh is folded (an inverted or dragged vertex) and would be meshed twice there",
-                        key);
+      report_.add(folded_face_defect(bg_, folded->second / 4, neighbour[folded->second] / 4, folded->first, folded_count));
     } else if (shared_by_more.empty() && same_vertices.empty()) {
       check_pieces(pieces);
     }
@@ -1615,18 +1621,9 @@ ValidationReport check_background_overlap(const TetMesh& background) {
       std::sort(b.begin(), b.end());
       if (a == b) return report;  // one tet twice: reported where faces are paired
       if (!opposite_sides(background, face, other)) {
-        const std::array<int, 3>& key = faces[i].first;
-        Defect d;
-        d.kind = DefectKind::InconsistentOrientation;
-        d.stage = "background";
-        d.message = "background tets overlap: tets " + std::to_string(face / 4) + " and " +
-                    std::to_string(other / 4) + " lie on the same side of their shared face (" +
-                    std::to_string(key[0]) + ", " + std::to_string(key[1]) + ", " + std::to_string(key[2]) +
-                    ") near " + format_point(background.vertices[static_cast<std::size_t>(key[0])]) +
-                    ": the background mesh is folded (an inverted or dragged vertex) and would be meshed twice there";
-        d.vertices = {key[0], key[1], key[2]};
-        report.add(std::move(d));
-        return report;  // faces in key order: the smallest key, as the clipping path reports it
+        // Faces in key order: the smallest key, as the clipping path reports it (uncounted here).
+        report.add(folded_face_defect(background, face / 4, other / 4, faces[i].first, 1));
+        return report;
       }
       pieces.unite(face / 4, other / 4);
     }
