@@ -13,6 +13,7 @@
 #include <CGAL/Delaunay_mesh_size_criteria_2.h>
 #include <CGAL/Delaunay_mesher_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
@@ -20,7 +21,6 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
-#include <numeric>
 #include <optional>
 #include <sstream>
 
@@ -307,36 +307,30 @@ void check_pieces(const TriangleMesh& mesh, ValidationReport& report) {
     }
     return false;
   };
-  struct Box {
-    double xmin, xmax, ymin, ymax;
-  };
-  std::vector<Box> box(triangles.size());
+  // The pairs of different pieces whose boxes meet (CGAL's box intersection, as the 3D check),
+  // tested exactly in (triangle, triangle) order: the first overlapping pair is reported.
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 2, std::uint32_t>;
+  std::vector<Box> boxes;
+  boxes.reserve(triangles.size());
   for (std::uint32_t t = 0; t < triangles.size(); ++t) {
-    const Point& p = mesh.vertices[triangles[t][0]];
-    box[t] = {p.x, p.x, p.y, p.y};
-    for (int k = 1; k < 3; ++k) {
-      const Point& q = mesh.vertices[triangles[t][k]];
-      box[t] = {std::min(box[t].xmin, q.x), std::max(box[t].xmax, q.x), std::min(box[t].ymin, q.y),
-                std::max(box[t].ymax, q.y)};
+    CGAL::Bbox_2 box;
+    for (int k = 0; k < 3; ++k) {
+      const Point& p = mesh.vertices[triangles[t][k]];
+      box += CGAL::Bbox_2(p.x, p.y, p.x, p.y);
     }
+    boxes.emplace_back(box, t);
   }
-  std::vector<std::uint32_t> by_x(triangles.size());
-  std::iota(by_x.begin(), by_x.end(), 0u);
-  std::sort(by_x.begin(), by_x.end(), [&](std::uint32_t t, std::uint32_t u) {
-    return std::pair(box[t].xmin, t) < std::pair(box[u].xmin, u);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& a, const Box& b) {
+    if (piece[a.info()] != piece[b.info()]) pairs.emplace_back(std::min(a.info(), b.info()), std::max(a.info(), b.info()));
   });
+  std::sort(pairs.begin(), pairs.end());
   std::optional<std::pair<std::uint32_t, std::uint32_t>> first;
-  for (std::size_t i = 0; i < by_x.size(); ++i) {
-    const std::uint32_t t = by_x[i];
-    for (std::size_t j = i + 1; j < by_x.size() && box[by_x[j]].xmin <= box[t].xmax; ++j) {
-      const std::uint32_t u = by_x[j];
-      if (piece[t] == piece[u] || box[u].ymin > box[t].ymax || box[t].ymin > box[u].ymax) continue;
-      const std::pair<std::uint32_t, std::uint32_t> pair{std::min(t, u), std::max(t, u)};
-      if (first && !(pair < *first)) continue;
-      if (separated(t, u) || separated(u, t)) continue;
-      first = pair;
+  for (const auto& [t, u] : pairs)
+    if (!separated(t, u) && !separated(u, t)) {
+      first = std::pair(t, u);
+      break;
     }
-  }
   if (!first) return;
   const auto [t, u] = *first;
   const Point& p = mesh.vertices[triangles[t][0]];
