@@ -1210,12 +1210,6 @@ struct OutputFile {
   bool numbered = false;
 };
 
-/// `path` with `_K` before its extension (mesh --all; as app/cli_surface.cpp numbers them).
-std::string numbered_path(const std::string& path, std::size_t k) {
-  const std::string ext = extension_of(path);
-  return path.substr(0, path.size() - ext.size()) + "_" + std::to_string(k) + ext;
-}
-
 /// The files of `cl`'s file-valued output options (not the directories of `immersions --svg`
 /// and `deform -o`), with the ones derived from them: TetGen's .ele beside a .node.
 std::vector<OutputFile> output_files(const std::string& command, const CommandLine& cl) {
@@ -1243,8 +1237,8 @@ bool same_output(const OutputFile& a, const OutputFile& b) {
   // A FIFO or device takes every output written to it (`-o /dev/null --json /dev/null`).
   if (is_stream_output(a.path) || is_stream_output(b.path)) return false;
   if (a.numbered == b.numbered) {
-    const std::string pa = a.numbered ? numbered_path(a.path, 0) : a.path;
-    const std::string pb = b.numbered ? numbered_path(b.path, 0) : b.path;
+    const std::string pa = a.numbered ? numbered_output(a.path, 0) : a.path;
+    const std::string pb = b.numbered ? numbered_output(b.path, 0) : b.path;
     return output_identity(pa) == output_identity(pb);
   }
   const OutputFile& n = a.numbered ? a : b;  // PATH_K.ext against a plain path: which K would it be?
@@ -1257,7 +1251,7 @@ bool same_output(const OutputFile& a, const OutputFile& b) {
   const char* first = stem.data() + underscore + 1;
   const char* last = stem.data() + stem.size();
   if (const auto [ptr, ec] = std::from_chars(first, last, k); ec != std::errc() || ptr != last) return false;
-  return output_identity(numbered_path(n.path, k)) == output_identity(plain.path);
+  return output_identity(numbered_output(n.path, k)) == output_identity(plain.path);
 }
 
 /// An output path naming an input file (the same file, by any path): `weights in.obj -o in.obj`

@@ -683,6 +683,10 @@ ObjElements scan_obj_elements(const std::string& path);
 /// them are loose edges, ignored with a note).
 bool is_surface_file(const std::string& path);
 
+/// Immersion k's file for `mesh --all`: `path` with `_K` before its extension; a FIFO or device
+/// (is_stream_output) is not numbered: it takes every immersion's output.
+std::string numbered_output(const std::string& path, std::size_t k);
+
 /// `immerse check IN` on a surface. @return the exit code.
 int check_surface(Session& s, const std::string& path);
 /// `immerse cells IN [--json OUT] [--cut-mesh OUT.obj]` on a surface.

@@ -79,6 +79,12 @@ bool is_surface_file(const std::string& path) {
   return scan_obj_elements(path).faces > 0;
 }
 
+std::string numbered_output(const std::string& path, std::size_t k) {
+  if (is_stream_output(path)) return path;  // /dev/null_0 would be a new regular file
+  const std::string ext = extension_of(path);
+  return path.substr(0, path.size() - ext.size()) + "_" + std::to_string(k) + ext;
+}
+
 namespace {
 
 using dim3::Box3;
@@ -478,12 +484,6 @@ int immersions_surface(Session& s, const CommandLine& cl, const SearchRequest& r
 
 namespace {
 
-/// `path` with `_K` before its extension (one file per immersion for `--all`).
-std::string numbered(const std::string& path, std::size_t k) {
-  const std::string ext = extension_of(path);
-  return path.substr(0, path.size() - ext.size()) + "_" + std::to_string(k) + ext;
-}
-
 std::string format_tet_mesh(const std::string& path, const dim3::TetMesh& mesh) {
   const std::string ext = extension_of(path);
   if (ext == ".vtu") return dim3::format_vtu(mesh);
@@ -587,7 +587,7 @@ bool write_tet_outputs(Session& s, const CommandLine& cl, bool all, std::size_t 
                        const std::string& what_embedding, Json& entry) {
   Json& outputs = (entry["outputs"] = Json::object());
   if (auto path = cl.value("-o")) {
-    const std::string out = all && !is_stream_output(*path) ? numbered(*path, i) : *path;  // /dev/null_0 is no device
+    const std::string out = all ? numbered_output(*path, i) : *path;
     if (extension_of(out) == ".node") {
       const dim3::TetGenTexts texts = dim3::format_tetgen(mesh);
       const auto [node_path, ele_path] = dim3::tetgen_paths(out);
@@ -600,7 +600,7 @@ bool write_tet_outputs(Session& s, const CommandLine& cl, bool all, std::size_t 
     outputs["mesh"] = out;
   }
   if (auto path = cl.value("--embedding")) {
-    const std::string out = all && !is_stream_output(*path) ? numbered(*path, i) : *path;  // /dev/null_0 is no device
+    const std::string out = all ? numbered_output(*path, i) : *path;
     if (!s.write(out, dim3::format_embedding(embedding), what_embedding)) return false;
     outputs["embedding"] = out;
   }
