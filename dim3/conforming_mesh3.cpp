@@ -86,18 +86,6 @@ constexpr std::size_t kSteinerExtra = 20000;
 
 Plc make_plc(const Complex& complex);
 
-/// `v` times a power of two that brings its largest component into [1, 2) (v unchanged when it
-/// is zero): angles and signs of products computed from it do not overflow or underflow at any
-/// scale of the input (|x| <= 1e300 down to 1e-300). Exact unless a much smaller component
-/// becomes subnormal (report-only quantities).
-std::array<double, 3> scaled(std::array<double, 3> v) {
-  const double big = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
-  if (!(big > 0) || !std::isfinite(big)) return v;
-  const int e = std::ilogb(big);
-  for (double& x : v) x = std::ldexp(x, -e);
-  return v;
-}
-
 /// log10 of an upper bound of the volume TetGen fills: the sum of the cones' volumes from the
 /// centroid of the points to the cut triangles (doubles, for the work bound only). In log10 with
 /// the differences scaled by a power of two, so that neither a box of 1e300 (volume 1e900) nor
@@ -451,7 +439,7 @@ void tet_quality(const std::array<Point3, 4>& p, std::array<double, 6>& angles, 
   std::array<V, 4> normal{};
   for (int k = 0; k < 4; ++k) {
     const int a = (k + 1) % 4, b = (k + 2) % 4, c = (k + 3) % 4;
-    V n = scaled(cross(sub(q[b], q[a]), sub(q[c], q[a])));
+    V n = scaled_to_unit(cross(sub(q[b], q[a]), sub(q[c], q[a])));
     if (dot(n, sub(q[k], q[a])) > 0) n = {-n[0], -n[1], -n[2]};
     const double len = std::sqrt(dot(n, n));
     normal[k] = {n[0] / len, n[1] / len, n[2] / len};
@@ -510,7 +498,7 @@ std::unordered_map<EdgeKey, double> cell_wedges(const Plc& plc, const Complex& c
     if (xs.size() < 2) continue;
     const auto a = static_cast<std::int32_t>(key >> 32), b = static_cast<std::int32_t>(key & 0xffffffffu);
     const P3& A = plc.points[static_cast<std::size_t>(a)];
-    Vec axis = scaled(sub(plc.points[static_cast<std::size_t>(b)], A));
+    Vec axis = scaled_to_unit(sub(plc.points[static_cast<std::size_t>(b)], A));
     const double length = std::sqrt(dot(axis, axis));
     for (double& c : axis) c /= length;
     // Per cut triangle: its third corner's direction off the edge.
@@ -518,10 +506,10 @@ std::unordered_map<EdgeKey, double> cell_wedges(const Plc& plc, const Complex& c
       std::int32_t c = -1;
       for (std::int32_t v : plc.facets[x])
         if (v != a && v != b) c = v;
-      Vec w = scaled(sub(plc.points[static_cast<std::size_t>(c)], A));
+      Vec w = scaled_to_unit(sub(plc.points[static_cast<std::size_t>(c)], A));
       const double along = dot(w, axis);
       for (int d = 0; d < 3; ++d) w[d] -= along * axis[d];
-      return scaled(w);
+      return scaled_to_unit(w);
     };
     const Vec u0 = off_edge(xs[0]);
     around.clear();
@@ -536,8 +524,8 @@ std::unordered_map<EdgeKey, double> cell_wedges(const Plc& plc, const Complex& c
       const double next = i + 1 < around.size() ? around[i + 1].first : around[0].first + 2.0 * M_PI;
       const auto& f = plc.facets[x];
       const Vec normal =
-          cross(scaled(sub(plc.points[static_cast<std::size_t>(f[1])], plc.points[static_cast<std::size_t>(f[0])])),
-                scaled(sub(plc.points[static_cast<std::size_t>(f[2])], plc.points[static_cast<std::size_t>(f[0])])));
+          cross(scaled_to_unit(sub(plc.points[static_cast<std::size_t>(f[1])], plc.points[static_cast<std::size_t>(f[0])])),
+                scaled_to_unit(sub(plc.points[static_cast<std::size_t>(f[2])], plc.points[static_cast<std::size_t>(f[0])])));
       const PatchSides& sides = cc.sides(complex.cut_triangle_patch[x]);
       const RegionId region = dot(normal, cross(axis, off_edge(x))) > 0 ? sides.positive : sides.negative;
       const CellId cell = cc.cell_of(region);
@@ -554,7 +542,7 @@ std::pair<double, double> triangle_angle_range(const P3& p0, const P3& p1, const
   const std::array<const P3*, 3> p{&p0, &p1, &p2};
   double lo = 180.0, hi = 0.0;
   for (int i = 0; i < 3; ++i) {
-    const Vec u = scaled(sub(*p[(i + 1) % 3], *p[i])), v = scaled(sub(*p[(i + 2) % 3], *p[i]));
+    const Vec u = scaled_to_unit(sub(*p[(i + 1) % 3], *p[i])), v = scaled_to_unit(sub(*p[(i + 2) % 3], *p[i]));
     const double angle = std::acos(std::clamp(dot(u, v) / std::sqrt(dot(u, u) * dot(v, v)), -1.0, 1.0)) * 180.0 / M_PI;
     lo = std::min(lo, angle);
     hi = std::max(hi, angle);

@@ -726,19 +726,19 @@ double graded_min_dihedral_bound() {
   return dihedral_range(m)[0];
 }
 
+Point3 scaled_to_unit(Point3 v) {
+  const double big = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
+  if (!(big > 0) || !std::isfinite(big)) return v;
+  const int e = std::ilogb(big);
+  for (double& x : v) x = std::ldexp(x, -e);
+  return v;
+}
+
 std::array<double, 2> dihedral_range(const TetMesh& mesh) {
   double lo = 180.0, hi = 0.0;
   constexpr double kDegrees = 180.0 / 3.14159265358979323846;
-  // A vector times the power of two that brings its largest component into [1, 2): angles are
-  // scale-free, and products of coordinates near 1e300 overflowed (every normal NaN: "min 180,
-  // max 0") and those near 1e-300 underflowed.
-  const auto scaled = [](Point3 v) {
-    const double big = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
-    if (!(big > 0) || !std::isfinite(big)) return v;
-    const int e = std::ilogb(big);
-    for (double& x : v) x = std::ldexp(x, -e);
-    return v;
-  };
+  // Vectors scaled_to_unit: products of coordinates near 1e300 overflowed (every normal NaN:
+  // "min 180, max 0") and those near 1e-300 underflowed.
   for (const Tet& t : mesh.tets) {
     std::array<Point3, 4> p;
     for (int k = 0; k < 4; ++k) p[k] = mesh.vertices[static_cast<std::size_t>(t[k])];
@@ -750,11 +750,11 @@ std::array<double, 2> dihedral_range(const TetMesh& mesh) {
       for (int k = 0, j = 0; k < 4; ++k)
         if (k != f) idx[j++] = k;
       const Point3& a = p[idx[0]];
-      const Point3 u = scaled({p[idx[1]][0] - a[0], p[idx[1]][1] - a[1], p[idx[1]][2] - a[2]});
-      const Point3 v = scaled({p[idx[2]][0] - a[0], p[idx[2]][1] - a[1], p[idx[2]][2] - a[2]});
-      Point3 n = scaled({u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]});
+      const Point3 u = scaled_to_unit({p[idx[1]][0] - a[0], p[idx[1]][1] - a[1], p[idx[1]][2] - a[2]});
+      const Point3 v = scaled_to_unit({p[idx[2]][0] - a[0], p[idx[2]][1] - a[1], p[idx[2]][2] - a[2]});
+      Point3 n = scaled_to_unit({u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]});
       // Point it away from the opposite vertex.
-      const Point3 w = scaled({p[f][0] - a[0], p[f][1] - a[1], p[f][2] - a[2]});
+      const Point3 w = scaled_to_unit({p[f][0] - a[0], p[f][1] - a[1], p[f][2] - a[2]});
       if (n[0] * w[0] + n[1] * w[1] + n[2] * w[2] > 0) n = {-n[0], -n[1], -n[2]};
       const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
       normal[f] = {n[0] / len, n[1] / len, n[2] / len};

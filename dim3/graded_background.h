@@ -107,6 +107,12 @@ double graded_min_dihedral_bound();
 GradedBackground make_graded_background(const Surface& surface, const Box3& box, const GradedOptions& options,
                                         int attempt = 0);
 
+/// `v` times the power of two that brings its largest component into [1, 2) (unchanged when it is
+/// zero or not finite): angles and signs of products computed from it neither overflow nor
+/// underflow at any input scale (|x| from 1e-300 to 1e300). Exact unless a much smaller component
+/// becomes subnormal (report-only quantities: dihedral angles, radius-edge ratios).
+Point3 scaled_to_unit(Point3 v);
+
 /// Smallest and largest dihedral angle (degrees) over the tets of `mesh` (doubles; for reports).
 std::array<double, 2> dihedral_range(const TetMesh& mesh);
 
