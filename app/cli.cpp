@@ -1208,6 +1208,7 @@ struct OutputFile {
   std::string option;  ///< "-o", "--json", "-o (its .ele)", ...
   std::string path;
   bool numbered = false;
+  bool derived = false;  ///< not an option's own path (TetGen's .ele beside -o's .node)
 };
 
 /// The files of `cl`'s file-valued output options (not the directories of `immersions --svg`
@@ -1224,7 +1225,7 @@ std::vector<OutputFile> output_files(const std::string& command, const CommandLi
     if (command == "mesh" && std::string(option) == "-o" && extension_of(*path) == ".node") {
       const auto [node, ele] = dim3::tetgen_paths(*path);
       files.push_back({option, node, numbered});
-      files.push_back({"the .ele of -o '" + *path + "':", ele, numbered});
+      files.push_back({"the .ele of -o '" + *path + "':", ele, numbered, true});
     } else {
       files.push_back({option, *path, numbered});
     }
@@ -1271,11 +1272,13 @@ std::string output_clash(const std::string& command, const CommandLine& cl) {
         return std::string(option) + " '" + *out + "' is " + what + " '" + in + "'; it would be replaced";
     }
   }
+  // The options' own paths were checked against the inputs above; the files derived from them
+  // (a .node's .ele) are checked here, and every pair of outputs.
   const std::vector<OutputFile> files = output_files(command, cl);
   for (std::size_t i = 0; i < files.size(); ++i) {
     for (const auto& [what, in] : inputs) {
       std::error_code ec;
-      if (!files[i].numbered && std::filesystem::equivalent(files[i].path, in, ec) && !ec)
+      if (files[i].derived && !files[i].numbered && std::filesystem::equivalent(files[i].path, in, ec) && !ec)
         return files[i].option + " '" + files[i].path + "' is " + what + " '" + in + "'; it would be replaced";
     }
     for (std::size_t j = 0; j < i; ++j) {
